@@ -1,0 +1,47 @@
+// glmbslam: stereo δ-GLMB-SLAM 2.0 with its frontend, evaluation, renderer and the papers' baselines.
+#include <cstdio>
+#include <exception>
+
+#include <CLI/CLI.hpp>
+#include <spdlog/spdlog.h>
+
+#include "app/commands.hpp"
+#include "core/error.hpp"
+#include "core/logging.hpp"
+#include "core/parallel.hpp"
+
+int main(int argc, char** argv) {
+  CLI::App app{"glmbslam: stereo visual SLAM with δ-GLMB-SLAM 2.0 (labelled random-finite-set maps in a "
+               "Rao-Blackwellised particle filter), its stereo frontend, KITTI evaluation and the papers' baselines."};
+  app.require_subcommand(1);
+  std::string log_level = "info";
+  int threads = 0;
+  app.add_option("--log-level", log_level, "trace, debug, info, warn, error or off")->capture_default_str();
+  app.add_option("--threads", threads, "worker threads (0 = all cores)")->capture_default_str();
+  app.parse_complete_callback([&] {
+    glmbslam::set_log_level(log_level);
+    glmbslam::set_thread_count(threads);
+  });
+
+  glmbslam::app::register_run_command(app);
+  glmbslam::app::register_eval_command(app);
+  glmbslam::app::register_render_command(app);
+  glmbslam::app::register_vo_command(app);
+  glmbslam::app::register_sim_command(app);
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  } catch (const glmbslam::InputError& e) {
+    spdlog::error("{}", e.what());
+    return 2;
+  } catch (const glmbslam::ConfigError& e) {
+    spdlog::error("{}", e.what());
+    return 2;
+  } catch (const std::exception& e) {
+    spdlog::error("{}", e.what());
+    return 1;
+  }
+  return 0;
+}

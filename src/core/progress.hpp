@@ -1,0 +1,35 @@
+#pragma once
+// Progress reporting for long runs: a live bar on a terminal (frame, rate, extra info, ETA), plain periodic
+// log lines otherwise (so CI logs and redirected output stay readable).
+#include <chrono>
+#include <cstddef>
+#include <string>
+
+namespace glmbslam {
+
+class ProgressReporter {
+ public:
+  /// `total` steps; `label` prefixes each line. Output goes to stderr.
+  ProgressReporter(std::size_t total, std::string label);
+  ~ProgressReporter();
+  ProgressReporter(const ProgressReporter&) = delete;
+  ProgressReporter& operator=(const ProgressReporter&) = delete;
+
+  /// Reports that `done` steps are complete; `extra` (e.g. "landmarks 1234") is shown beside the rate.
+  void update(std::size_t done, const std::string& extra = "");
+  /// Ends the bar (prints the final line).
+  void finish(const std::string& extra = "");
+
+  /// Disables all output (for tests and quiet runs).
+  static void set_enabled(bool enabled);
+
+ private:
+  std::size_t total_;
+  std::string label_;
+  bool tty_;
+  bool finished_ = false;
+  std::chrono::steady_clock::time_point start_;
+  std::chrono::steady_clock::time_point last_print_;
+};
+
+}  // namespace glmbslam

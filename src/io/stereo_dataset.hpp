@@ -1,0 +1,57 @@
+#pragma once
+// A rectified stereo sequence read lazily, frame by frame (a long sequence is never loaded at once).
+// Implementations: KITTI odometry (sequences/XX) and KITTI raw (DATE/DATE_drive_NNNN_sync).
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "core/types.hpp"
+
+namespace glmbslam::io {
+
+/// One stereo pair: 8-bit grayscale, rectified.
+struct StereoFrame {
+  std::size_t index = 0;
+  double timestamp = 0.0;  ///< seconds from the start of the sequence
+  cv::Mat left;
+  cv::Mat right;
+};
+
+enum class DatasetFormat { kAuto, kKittiOdometry, kKittiRaw, kVictoriaPark };
+
+/// Parses "auto", "kitti", "kitti_raw", "victoria_park"; throws ConfigError otherwise.
+DatasetFormat parse_dataset_format(const std::string& name);
+std::string to_string(DatasetFormat format);
+
+class StereoDataset {
+ public:
+  virtual ~StereoDataset() = default;
+  /// Number of stereo frames.
+  virtual std::size_t size() const = 0;
+  /// Rectified calibration (left camera intrinsics, baseline, image size).
+  virtual const StereoCalibration& calibration() const = 0;
+  /// Timestamps in seconds, one per frame, strictly increasing.
+  virtual const std::vector<double>& timestamps() const = 0;
+  /// Ground-truth poses T_world_cam0 relative to frame 0 (one per frame), if available.
+  virtual const std::optional<PoseList>& ground_truth() const = 0;
+  /// Loads frame i (0 ≤ i < size()). Throws InputError naming the image file if it is missing or unreadable,
+  /// or if its size does not match the calibration.
+  virtual StereoFrame load(std::size_t i) const = 0;
+  /// Human-readable name (e.g. "kitti odometry 00").
+  virtual std::string name() const = 0;
+};
+
+/// Detects the format of `path` (a folder): a KITTI odometry sequence folder (with image_0/ image_1/ calib.txt),
+/// a KITTI raw drive folder (with image_00/ image_01/), or a Victoria Park folder (aa3_dr.mat).
+/// Throws InputError naming the path if it matches none.
+DatasetFormat detect_dataset_format(const std::string& path);
+
+/// Opens a stereo dataset. `ground_truth_path` overrides where the ground-truth poses are read from.
+/// Throws InputError for a missing folder, mismatched left/right image counts, bad calibration, etc.
+std::unique_ptr<StereoDataset> open_stereo_dataset(const std::string& path, DatasetFormat format = DatasetFormat::kAuto,
+                                                   const std::string& ground_truth_path = "");
+
+}  // namespace glmbslam::io
