@@ -1,0 +1,100 @@
+// MatFile: typed reads with shape/class checks, and write_mat_file round trips.
+#include <fstream>
+#include <functional>
+#include <limits>
+
+#include <gtest/gtest.h>
+
+#include "core/error.hpp"
+#include "io/mat_reader.hpp"
+#include "support/test_data.hpp"
+
+namespace glmbslam::io {
+namespace {
+
+std::string error_of(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(MatReader, RoundTripMatrixVectorScalarCell) {
+  const auto dir = test::fresh_temp_dir("mat_reader");
+  const auto file = dir / "a.mat";
+  Eigen::MatrixXd m(2, 3);
+  m << 1, 2, 3, 4, 5, 6;
+  std::vector<Eigen::MatrixXd> cells = {Eigen::MatrixXd::Constant(3, 2, 7.0), Eigen::MatrixXd(0, 0),
+                                        Eigen::MatrixXd::Identity(3, 1)};
+  write_mat_file(file, {MatVariable::matrix_variable("m", m),
+                        MatVariable::matrix_variable("row", Eigen::RowVector3d(1, 2, 3)),
+                        MatVariable::matrix_variable("col", Eigen::Vector2d(4, 5)),
+                        MatVariable::matrix_variable("s", Eigen::MatrixXd::Constant(1, 1, 2.5)),
+                        MatVariable::cell_variable("c", cells)});
+  const MatFile f(file);
+  EXPECT_TRUE(f.has("m"));
+  EXPECT_FALSE(f.has("nope"));
+  EXPECT_EQ(f.variable_names().size(), 5u);
+  EXPECT_EQ(f.read_matrix("m", 2, 3), m);
+  EXPECT_EQ(f.read_vector("row", 3), Eigen::Vector3d(1, 2, 3));
+  EXPECT_EQ(f.read_vector("col"), Eigen::Vector2d(4, 5));
+  EXPECT_EQ(f.read_scalar("s"), 2.5);
+  const auto c = f.read_cell_matrices("c", 3, 3);
+  ASSERT_EQ(c.size(), 3u);
+  EXPECT_EQ(c[0], cells[0]);
+  EXPECT_EQ(c[1].rows(), 3);
+  EXPECT_EQ(c[1].cols(), 0);
+  EXPECT_EQ(c[2], cells[2]);
+}
+
+TEST(MatReader, ErrorsNameTheVariable) {
+  const auto dir = test::fresh_temp_dir("mat_reader");
+  const auto file = dir / "b.mat";
+  Eigen::MatrixXd nan = Eigen::MatrixXd::Zero(2, 2);
+  nan(1, 1) = std::numeric_limits<double>::quiet_NaN();
+  write_mat_file(
+      file, {MatVariable::matrix_variable("m", Eigen::MatrixXd::Zero(2, 3)),
+             MatVariable::matrix_variable("bad", nan),
+             MatVariable::cell_variable("c", {Eigen::MatrixXd::Zero(3, 2), Eigen::MatrixXd::Zero(2, 2)})});
+  const MatFile f(file);
+  EXPECT_NE(error_of([&] { f.read_matrix("missing"); }).find("'missing' is missing"), std::string::npos);
+  EXPECT_NE(error_of([&] { f.read_matrix("m", 3, 3); }).find("'m' must be 3x3, found 2x3"),
+            std::string::npos);
+  EXPECT_NE(error_of([&] { f.read_vector("m"); }).find("'m' must be a vector"), std::string::npos);
+  EXPECT_NE(error_of([&] { f.read_matrix("bad"); }).find("'bad' holds a NaN"), std::string::npos);
+  EXPECT_NO_THROW(f.read_matrix("bad", 2, 2, /*require_finite=*/false));
+  EXPECT_NE(error_of([&] { f.read_matrix("c"); }).find("'c' must be a numeric matrix, found class cell"),
+            std::string::npos);
+  EXPECT_NE(error_of([&] { f.read_cell_matrices("m"); }).find("'m' must be a cell array"), std::string::npos);
+  EXPECT_NE(error_of([&] { f.read_cell_matrices("c", 3); }).find("'c{2}' must be 3xany, found 2x2"),
+            std::string::npos);
+  EXPECT_NE(error_of([&] { f.read_cell_matrices("c", io::kAnySize, 5); }).find("must have 5 cells"),
+            std::string::npos);
+  // The message starts with the file name.
+  EXPECT_EQ(error_of([&] { f.read_matrix("missing"); }).rfind(file.string(), 0), 0u);
+}
+
+TEST(MatReader, RejectsMissingAndNonMatFiles) {
+  const auto dir = test::fresh_temp_dir("mat_reader");
+  EXPECT_THROW(MatFile(dir / "none.mat"), InputError);
+  const auto text = dir / "text.mat";
+  {
+    std::ofstream out(text);
+    out << "not a mat file\n";
+  }
+  EXPECT_THROW(MatFile{text}, InputError);
+}
+
+TEST(MatReader, ReadsTheSharedBenchmarkFile) {
+  GLMBSLAM_REQUIRE_DATA(path, "phdslam3_synthetic/Environment_SLAM.mat");
+  const MatFile f(path);
+  const Eigen::MatrixXd gt = f.read_matrix("Robot_Groundtruth", 3, 4000);
+  EXPECT_DOUBLE_EQ(gt(0, 0), 300.0);
+  EXPECT_DOUBLE_EQ(gt(1, 0), 400.0);
+  EXPECT_NEAR(gt(2, 0), -5.0 * M_PI / 180.0, 1e-9);
+}
+
+}  // namespace
+}  // namespace glmbslam::io
