@@ -1,0 +1,122 @@
+#include "io/kitti_common.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+#include <system_error>
+
+#include <opencv2/imgcodecs.hpp>
+
+#include "core/error.hpp"
+
+namespace glmbslam::io::detail {
+
+namespace fs = std::filesystem;
+
+std::string file_line(const std::string& path, std::size_t line) {
+  return path + ":" + std::to_string(line);
+}
+
+bool parse_number_list(const std::string& text, std::vector<double>& out) {
+  out.clear();
+  std::istringstream ss(text);
+  std::string tok;
+  while (ss >> tok) {
+    char* end = nullptr;
+    const double v = std::strtod(tok.c_str(), &end);
+    if (end == tok.c_str() || *end != '\0') return false;
+    out.push_back(v);
+  }
+  return true;
+}
+
+bool is_blank_line(const std::string& line) {
+  return line.find_first_not_of(" \t\r") == std::string::npos;
+}
+
+void require_directory(const fs::path& dir, const std::string& what) {
+  std::error_code ec;
+  if (!fs::exists(dir, ec)) throw InputError(dir.string(), what + " not found");
+  if (!fs::is_directory(dir, ec)) throw InputError(dir.string(), what + " is not a folder");
+}
+
+void require_file(const fs::path& file, const std::string& what) {
+  std::error_code ec;
+  if (!fs::exists(file, ec)) throw InputError(file.string(), what + " not found");
+  if (!fs::is_regular_file(file, ec)) throw InputError(file.string(), what + " is not a regular file");
+}
+
+std::vector<fs::path> list_png_files(const fs::path& dir) {
+  require_directory(dir, "image folder");
+  std::vector<fs::path> files;
+  std::error_code ec;
+  for (const auto& entry : fs::directory_iterator(dir, ec)) {
+    if (entry.path().extension() == ".png") files.push_back(entry.path());
+  }
+  if (ec) throw InputError(dir.string(), "cannot list image folder (" + ec.message() + ")");
+  if (files.empty()) throw InputError(dir.string(), "image folder contains no .png image");
+  std::sort(files.begin(), files.end());
+  return files;
+}
+
+cv::Mat read_gray_image(const fs::path& file, int width, int height) {
+  std::error_code ec;
+  if (!fs::is_regular_file(file, ec)) throw InputError(file.string(), "image is missing");
+  cv::Mat img = cv::imread(file.string(), cv::IMREAD_GRAYSCALE);
+  if (img.empty()) throw InputError(file.string(), "image is unreadable (not a valid image file)");
+  if (width > 0 && (img.cols != width || img.rows != height)) {
+    throw InputError(file.string(), "image is " + std::to_string(img.cols) + "x" + std::to_string(img.rows) +
+                                        ", expected " + std::to_string(width) + "x" + std::to_string(height) +
+                                        " like the first image of the sequence");
+  }
+  return img;
+}
+
+KeyValueFile::KeyValueFile(const std::string& path) : path_(path) {
+  require_file(path, "calibration file");
+  std::ifstream in(path);
+  if (!in) throw InputError(path, "cannot open calibration file");
+  std::string line;
+  std::size_t n = 0;
+  while (std::getline(in, line)) {
+    ++n;
+    if (is_blank_line(line)) continue;
+    const auto colon = line.find(':');
+    if (colon == std::string::npos) {
+      throw InputError(file_line(path, n), "calibration line has no 'key:' prefix");
+    }
+    std::string key = line.substr(0, colon);
+    key.erase(0, key.find_first_not_of(" \t"));
+    key.erase(key.find_last_not_of(" \t") + 1);
+    if (key.empty()) throw InputError(file_line(path, n), "calibration line has an empty key");
+    if (entries_.count(key) > 0)
+      throw InputError(file_line(path, n), "calibration key '" + key + "' repeated");
+    entries_[key] = Entry{n, line.substr(colon + 1)};
+    keys_.push_back(key);
+  }
+  if (in.bad()) throw InputError(path, "read error");
+  if (keys_.empty()) throw InputError(path, "calibration file is empty");
+}
+
+std::vector<double> KeyValueFile::numbers(const std::string& key, std::size_t expected_count) const {
+  const auto it = entries_.find(key);
+  if (it == entries_.end()) throw InputError(path_, "calibration entry '" + key + "' is missing");
+  const std::string where = file_line(path_, it->second.line);
+  std::vector<double> v;
+  if (!parse_number_list(it->second.text, v)) {
+    throw InputError(where, "calibration entry '" + key + "' contains a token that is not a number");
+  }
+  if (expected_count > 0 && v.size() != expected_count) {
+    throw InputError(where, "calibration entry '" + key + "' has " + std::to_string(v.size()) +
+                                " values, expected " + std::to_string(expected_count));
+  }
+  for (double x : v) {
+    if (!std::isfinite(x))
+      throw InputError(where, "calibration entry '" + key + "' contains a non-finite value");
+  }
+  return v;
+}
+
+}  // namespace glmbslam::io::detail

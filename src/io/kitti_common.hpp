@@ -1,0 +1,61 @@
+#pragma once
+// Small helpers shared by the KITTI readers (odometry and raw): number parsing, image listing, image loading,
+// and "key: numbers" calibration files. Every failure is an InputError naming the file and the problem.
+#include <filesystem>
+#include <map>
+#include <string>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+namespace glmbslam::io::detail {
+
+/// "path:line" for error messages.
+std::string file_line(const std::string& path, std::size_t line);
+
+/// Splits `text` into numbers; returns false if a token is not a number. Non-finite values are returned as
+/// parsed.
+bool parse_number_list(const std::string& text, std::vector<double>& out);
+
+/// True if the line holds only white space.
+bool is_blank_line(const std::string& line);
+
+/// Sorted list of the *.png files in `dir`. Throws InputError naming `dir` if it is not a folder or has no
+/// PNG.
+std::vector<std::filesystem::path> list_png_files(const std::filesystem::path& dir);
+
+/// Checks that `dir` exists and is a folder; throws InputError naming it otherwise (`what` describes the
+/// folder).
+void require_directory(const std::filesystem::path& dir, const std::string& what);
+
+/// Checks that `file` exists and is a regular file; throws InputError naming it otherwise.
+void require_file(const std::filesystem::path& file, const std::string& what);
+
+/// Reads an 8-bit grayscale image; throws InputError naming the file if missing or unreadable, or if its size
+/// is not width×height (when width > 0).
+cv::Mat read_gray_image(const std::filesystem::path& file, int width = 0, int height = 0);
+
+/// A "key: n1 n2 ..." text file (KITTI calib files). Lines whose values are not all numbers are kept as
+/// non-numeric (e.g. calib_time); asking for such a key as numbers is an error.
+class KeyValueFile {
+ public:
+  explicit KeyValueFile(const std::string& path);
+  const std::string& path() const { return path_; }
+  bool has(const std::string& key) const { return entries_.count(key) > 0; }
+  /// The numbers of `key`; throws InputError naming the file and line if absent, not numeric, of the wrong
+  /// count (when expected_count > 0) or non-finite.
+  std::vector<double> numbers(const std::string& key, std::size_t expected_count) const;
+  /// Keys in file order.
+  const std::vector<std::string>& keys() const { return keys_; }
+
+ private:
+  struct Entry {
+    std::size_t line = 0;
+    std::string text;
+  };
+  std::string path_;
+  std::map<std::string, Entry> entries_;
+  std::vector<std::string> keys_;
+};
+
+}  // namespace glmbslam::io::detail
