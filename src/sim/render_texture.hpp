@@ -1,0 +1,166 @@
+#pragma once
+// Procedural textures of the synthetic stereo world: deterministic functions of the texture coordinates
+// (a, b) (metres on the surface) and the surface seed, so the same world point always has the same albedo
+// (a revisited place looks the same). Each pattern layer is band-limited by the pixel footprint `fp` (metres
+// covered by one pixel on the surface): layers finer than a few pixels fade to their mean, and rectangle
+// edges are blurred over one footprint (analytic anti-aliasing), which keeps corners stable from frame to
+// frame.
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+
+#include "sim/stereo_world.hpp"
+
+namespace glmbslam::sim::texture {
+
+/// 32-bit integer hash (lowbias32 finaliser).
+inline std::uint32_t mix32(std::uint32_t x) {
+  x ^= x >> 16;
+  x *= 0x7feb352dU;
+  x ^= x >> 15;
+  x *= 0x846ca68bU;
+  x ^= x >> 16;
+  return x;
+}
+
+/// Hash of a lattice cell and a seed.
+inline std::uint32_t hash_cell(std::int32_t i, std::int32_t j, std::uint32_t seed) {
+  return mix32(mix32(seed ^ (static_cast<std::uint32_t>(i) * 0x9E3779B1U)) +
+               static_cast<std::uint32_t>(j) * 0x85EBCA77U);
+}
+
+/// Uniform in [0, 1) from the top 24 bits.
+inline float unit(std::uint32_t h) {
+  return static_cast<float>(h >> 8) * (1.0f / 16777216.0f);
+}
+
+inline float clamp01(float x) {
+  return std::min(1.0f, std::max(0.0f, x));
+}
+
+/// Weight of a pattern layer of characteristic size `scale` for footprint `fp`: 0 below 4 pixels, 1 above 8.
+inline float layer_weight(float scale, float fp) {
+  return clamp01(scale / (4.0f * fp) - 1.0f);
+}
+
+/// Smooth value noise in [0, 1] with lattice spacing 1.
+inline float value_noise(float x, float y, std::uint32_t seed) {
+  const float fx = std::floor(x);
+  const float fy = std::floor(y);
+  const auto ix = static_cast<std::int32_t>(fx);
+  const auto iy = static_cast<std::int32_t>(fy);
+  float tx = x - fx;
+  float ty = y - fy;
+  tx = tx * tx * (3.0f - 2.0f * tx);
+  ty = ty * ty * (3.0f - 2.0f * ty);
+  const float v00 = unit(hash_cell(ix, iy, seed));
+  const float v10 = unit(hash_cell(ix + 1, iy, seed));
+  const float v01 = unit(hash_cell(ix, iy + 1, seed));
+  const float v11 = unit(hash_cell(ix + 1, iy + 1, seed));
+  const float a = v00 + (v10 - v00) * tx;
+  const float b = v01 + (v11 - v01) * tx;
+  return a + (b - a) * ty;
+}
+
+/// One rectangle per square cell of size `cell`, random extent and signed intensity in [−1, 1], on a zero
+/// background; edges anti-aliased over the footprint.
+inline float rect_layer(float a, float b, float cell, std::uint32_t seed, float fp) {
+  const float ga = a / cell;
+  const float gb = b / cell;
+  const float fa = std::floor(ga);
+  const float fb = std::floor(gb);
+  const float la = (ga - fa) * cell;
+  const float lb = (gb - fb) * cell;
+  const std::uint32_t h = hash_cell(static_cast<std::int32_t>(fa), static_cast<std::int32_t>(fb), seed);
+  const float x0 = (0.04f + 0.36f * static_cast<float>(h & 0xFFU) * (1.0f / 255.0f)) * cell;
+  const float x1 = (0.60f + 0.36f * static_cast<float>((h >> 8) & 0xFFU) * (1.0f / 255.0f)) * cell;
+  const float y0 = (0.04f + 0.36f * static_cast<float>((h >> 16) & 0xFFU) * (1.0f / 255.0f)) * cell;
+  const float y1 = (0.60f + 0.36f * static_cast<float>(h >> 24) * (1.0f / 255.0f)) * cell;
+  const float inv_fp = 1.0f / fp;
+  const float cx = clamp01(std::min(la - x0, x1 - la) * inv_fp + 0.5f);
+  const float cy = clamp01(std::min(lb - y0, y1 - lb) * inv_fp + 0.5f);
+  const float v = 2.0f * unit(mix32(h + 0x68E31DA4U)) - 1.0f;
+  return v * cx * cy;
+}
+
+/// Rectangle layers at three scales (coarse to fine), weighted by the footprint.
+inline float mondrian(float a, float b, float scale, std::uint32_t seed, float fp) {
+  float v = 0.0f;
+  float w = layer_weight(scale, fp);
+  if (w > 0.0f) v += w * rect_layer(a, b, scale, seed, fp);
+  w = layer_weight(scale * 0.33f, fp);
+  if (w > 0.0f)
+    v += 0.8f * w * rect_layer(a + 0.37f * scale, b + 0.11f * scale, scale * 0.33f, seed + 1U, fp);
+  w = layer_weight(scale * 0.11f, fp);
+  if (w > 0.0f) v += 0.6f * w * rect_layer(a, b, scale * 0.11f, seed + 2U, fp);
+  return v;
+}
+
+/// Albedo in [0, 1] of surface `s` at texture coordinates (a, b) for pixel footprint `fp` (metres).
+inline float albedo(const Surface& s, float a, float b, float fp) {
+  const float c = s.contrast;
+  float v = s.albedo;
+  switch (s.kind) {
+    case TextureKind::kConstant:
+      break;
+    case TextureKind::kGround: {
+      v += 0.5f * c * (2.0f * value_noise(a * 0.25f, b * 0.25f, s.seed) - 1.0f);
+      v += 0.9f * c * mondrian(a, b, 1.2f, s.seed + 11U, fp);
+      const float wn = layer_weight(0.1f, fp);
+      if (wn > 0.0f) v += 0.3f * c * wn * (2.0f * value_noise(a * 12.0f, b * 12.0f, s.seed + 5U) - 1.0f);
+      break;
+    }
+    case TextureKind::kFacade: {
+      const float cw = s.param0;
+      const float ch = s.param1;
+      v += 0.3f * c * (2.0f * value_noise(a * 0.5f, b * 0.5f, s.seed) - 1.0f);
+      v += 0.5f * c * mondrian(a, b, 0.9f, s.seed + 3U, fp);
+      const float ww = layer_weight(std::min(cw, ch) * 0.5f, fp);
+      if (ww > 0.0f) {
+        const float ga = a / cw;
+        const float gb = b / ch;
+        const float fa = std::floor(ga);
+        const float fb = std::floor(gb);
+        const float la = (ga - fa) * cw;
+        const float lb = (gb - fb) * ch;
+        const std::uint32_t h =
+            hash_cell(static_cast<std::int32_t>(fa), static_cast<std::int32_t>(fb), s.seed + 7U);
+        const float inv_fp = 1.0f / fp;
+        const float cx = clamp01(std::min(la - 0.22f * cw, 0.78f * cw - la) * inv_fp + 0.5f);
+        const float cy = clamp01(std::min(lb - 0.25f * ch, 0.80f * ch - lb) * inv_fp + 0.5f);
+        const float r = unit(h);
+        const float glass = r < 0.7f ? 0.06f + 0.3f * r : 0.55f + 1.2f * (r - 0.7f);
+        v += ww * cx * cy * (glass - v);
+      }
+      break;
+    }
+    case TextureKind::kMondrian:
+      v += c * mondrian(a, b, s.param0, s.seed, fp);
+      v += 0.15f * c * (2.0f * value_noise(a * 0.7f, b * 0.7f, s.seed + 9U) - 1.0f);
+      break;
+    case TextureKind::kBands: {
+      const float p = s.param0;
+      const float w = layer_weight(p * 0.5f, fp);
+      if (w > 0.0f) {
+        const float t = b / p;
+        const float fr = t - std::floor(t);
+        const float sd = fr < 0.5f ? std::min(fr, 0.5f - fr) * p : -std::min(fr - 0.5f, 1.0f - fr) * p;
+        const float cov = clamp01(sd / fp + 0.5f);
+        v += c * w * (2.0f * cov - 1.0f);
+      }
+      break;
+    }
+    case TextureKind::kFoliage:
+      v += c * mondrian(a, b, 0.7f, s.seed, fp);
+      v += 0.4f * c * (2.0f * value_noise(a * 1.5f, b * 1.5f, s.seed + 4U) - 1.0f);
+      break;
+    case TextureKind::kDisc: {
+      const float d = std::sqrt(a * a + b * b);
+      v += c * clamp01((s.param0 - d) / fp + 0.5f);
+      break;
+    }
+  }
+  return clamp01(v);
+}
+
+}  // namespace glmbslam::sim::texture

@@ -1,0 +1,77 @@
+#pragma once
+// Rasteriser of the synthetic stereo world: every visible surface is clipped to the near plane, projected
+// and scan-converted with a z-buffer (1/z is affine in pixel coordinates on a plane, so depth and texture
+// coordinates are exact per pixel); a deferred pass then evaluates the procedural texture once per pixel.
+// Pixel centres are at integer coordinates: a camera-frame point X appears at u = fx·X/Z + cx, v = fy·Y/Z +
+// cy. The right camera sits at +baseline along the left camera's x axis with the same intrinsics (rectified).
+#include <cstdint>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "core/types.hpp"
+#include "sim/stereo_world.hpp"
+
+namespace glmbslam::sim {
+
+/// Photometric effects (all zero gives a clean, noise-free image).
+struct PhotometricOptions {
+  double noise_sigma = 2.0;  ///< per-pixel Gaussian noise, grey levels (independent per camera)
+  double vignetting = 0.2;  ///< relative darkening at the image corners: gain = 1 − vignetting·(r/r_corner)²
+  double exposure_sigma = 0.04;  ///< per-frame, per-camera log-gain standard deviation
+};
+
+struct RenderOptions {
+  PhotometricOptions photometric;
+  double near_plane = 0.1;  ///< metres
+  std::uint64_t seed = 1;   ///< seeds the photometric noise (the world has its own seed)
+};
+
+/// One rendered stereo pair: 8-bit grayscale images and the left camera's depth (CV_32F, metres along the
+/// optical axis; 0 where the ray hits no surface, i.e. sky).
+struct RenderedFrame {
+  cv::Mat left;
+  cv::Mat right;
+  cv::Mat depth;
+};
+
+/// Renders frames of one world with one calibration. Not thread-safe: use one renderer per thread (the world
+/// is shared). Buffers are reused between frames.
+class StereoRenderer {
+ public:
+  StereoRenderer(const StereoWorld& world, const StereoCalibration& calibration, RenderOptions options = {});
+
+  /// Renders the stereo pair seen from T_world_left at `time` (seconds; moving objects). `frame_id` keys the
+  /// photometric noise and exposure, so a frame is reproducible on its own. `with_depth` fills out.depth.
+  void render(const Pose3& T_world_left, double time, std::uint64_t frame_id, RenderedFrame& out,
+              bool with_depth = true);
+
+  /// Renders one camera (T_world_cam) of the given surfaces; `camera` (0 left, 1 right) keys the noise.
+  /// `depth` may be null.
+  void render_camera(const Pose3& T_world_cam, const SurfaceList& surfaces, std::uint64_t frame_id,
+                     int camera, cv::Mat& image, cv::Mat* depth);
+
+  const StereoCalibration& calibration() const { return calib_; }
+
+ private:
+  struct Prepared {
+    const Surface* surface;
+    double A, B, C;     // 1/z = A u + B v + C
+    double Au, Bu, Cu;  // a/z
+    double Av, Bv, Cv;  // b/z
+    double nx, ny, nz;  // unit normal in the camera frame
+  };
+  void rasterise(const Pose3& T_cam_world, const SurfaceList& surfaces);
+  void shade(const Pose3& T_world_cam, std::uint64_t frame_id, int camera, cv::Mat& image, cv::Mat* depth);
+
+  const StereoWorld& world_;
+  StereoCalibration calib_;
+  RenderOptions options_;
+  SurfaceList surfaces_;
+  std::vector<Prepared> prepared_;
+  std::vector<float> inv_depth_;
+  std::vector<std::int32_t> surface_id_;
+  std::vector<float> noise_table_;
+};
+
+}  // namespace glmbslam::sim
