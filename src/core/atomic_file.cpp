@@ -25,7 +25,8 @@ void commit_temporary(const std::filesystem::path& temporary, const std::filesys
   }
 }
 
-void write_text_file_atomically(const std::filesystem::path& target, const std::function<void(std::ostream&)>& fill) {
+void write_text_file_atomically(const std::filesystem::path& target,
+                                const std::function<void(std::ostream&)>& fill) {
   const auto tmp = temporary_path_for(target);
   try {
     std::ofstream out(tmp);
@@ -45,7 +46,8 @@ void ensure_writable_directory(const std::filesystem::path& dir) {
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);
   if (ec || !std::filesystem::is_directory(dir)) {
-    throw InputError(dir.string(), "output folder cannot be created" + (ec ? " (" + ec.message() + ")" : std::string()));
+    throw InputError(dir.string(),
+                     "output folder cannot be created" + (ec ? " (" + ec.message() + ")" : std::string()));
   }
   if (::access(dir.c_str(), W_OK) != 0) {
     throw InputError(dir.string(), "output folder is not writable");

@@ -16,7 +16,8 @@ void commit_temporary(const std::filesystem::path& temporary, const std::filesys
 
 /// Writes a text file atomically: `fill` writes the content into the stream; on any exception the
 /// temporary file is removed and the exception propagates. Throws InputError if the file cannot be written.
-void write_text_file_atomically(const std::filesystem::path& target, const std::function<void(std::ostream&)>& fill);
+void write_text_file_atomically(const std::filesystem::path& target,
+                                const std::function<void(std::ostream&)>& fill);
 
 /// Creates `dir` (and parents) if needed; throws InputError naming it if that fails or it is not writable.
 void ensure_writable_directory(const std::filesystem::path& dir);

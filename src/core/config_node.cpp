@@ -39,7 +39,8 @@ YAML::Node ConfigNode::lookup(const std::string& key) {
   return node_[key];
 }
 
-void ConfigNode::read_choice(const std::string& key, std::string& value, const std::vector<std::string>& choices) {
+void ConfigNode::read_choice(const std::string& key, std::string& value,
+                             const std::vector<std::string>& choices) {
   read(key, value);
   if (std::find(choices.begin(), choices.end(), value) == choices.end()) {
     std::string list;
@@ -48,7 +49,9 @@ void ConfigNode::read_choice(const std::string& key, std::string& value, const s
   }
 }
 
-bool ConfigNode::has(const std::string& key) { return static_cast<bool>(lookup(key)); }
+bool ConfigNode::has(const std::string& key) {
+  return static_cast<bool>(lookup(key));
+}
 
 ConfigNode ConfigNode::child(const std::string& key) {
   YAML::Node c = lookup(key);

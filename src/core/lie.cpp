@@ -30,7 +30,8 @@ Eigen::Matrix3d so3_left_jacobian(const Eigen::Vector3d& phi) {
     return Eigen::Matrix3d::Identity() + 0.5 * K + K * K / 6.0;
   }
   const double t2 = theta * theta;
-  return Eigen::Matrix3d::Identity() + (1.0 - std::cos(theta)) / t2 * K + (theta - std::sin(theta)) / (t2 * theta) * K * K;
+  return Eigen::Matrix3d::Identity() + (1.0 - std::cos(theta)) / t2 * K +
+         (theta - std::sin(theta)) / (t2 * theta) * K * K;
 }
 
 Pose3 se3_exp(const Vector6d& xi) {

@@ -34,9 +34,13 @@ Pose3 se3_exp(const Vector6d& xi);
 /// Log: SE(3) → se(3), inverse of se3_exp.
 Vector6d se3_log(const Pose3& T);
 /// T ⊕ ξ = T · Exp(ξ) (right perturbation).
-inline Pose3 se3_plus(const Pose3& T, const Vector6d& xi) { return T * se3_exp(xi); }
+inline Pose3 se3_plus(const Pose3& T, const Vector6d& xi) {
+  return T * se3_exp(xi);
+}
 /// a ⊖ b = Log(b⁻¹ · a), so that b ⊕ (a ⊖ b) = a.
-inline Vector6d se3_minus(const Pose3& a, const Pose3& b) { return se3_log(b.inverse() * a); }
+inline Vector6d se3_minus(const Pose3& a, const Pose3& b) {
+  return se3_log(b.inverse() * a);
+}
 /// Adjoint of T, Ad_T ξ = Log(T Exp(ξ) T⁻¹) to first order, for ξ = (ρ, φ).
 Matrix6d se3_adjoint(const Pose3& T);
 /// Rotation angle of a rotation matrix in [0, π], robust near 0 and π (KITTI devkit formula, clamped).

@@ -28,7 +28,9 @@ double log_sum_exp(Iterator first, Iterator last) {
   return m + std::log(s);
 }
 
-inline double log_sum_exp(const std::vector<double>& v) { return log_sum_exp(v.begin(), v.end()); }
+inline double log_sum_exp(const std::vector<double>& v) {
+  return log_sum_exp(v.begin(), v.end());
+}
 
 /// Normalises log weights in place so that Σ e^{w_i} = 1; returns the log normaliser.
 inline double normalize_log_weights(std::vector<double>& log_w) {

@@ -8,7 +8,9 @@
 namespace glmbslam {
 
 /// Number of worker threads used by parallel_for (defaults to all cores).
-inline int thread_count() { return omp_get_max_threads(); }
+inline int thread_count() {
+  return omp_get_max_threads();
+}
 /// Sets the worker thread count (≤ 0 keeps the default: all cores).
 inline void set_thread_count(int n) {
   if (n > 0) omp_set_num_threads(n);

@@ -24,11 +24,16 @@ std::string format_duration(double seconds) {
 }
 }  // namespace
 
-void ProgressReporter::set_enabled(bool enabled) { g_enabled = enabled; }
+void ProgressReporter::set_enabled(bool enabled) {
+  g_enabled = enabled;
+}
 
 ProgressReporter::ProgressReporter(std::size_t total, std::string label)
-    : total_(total), label_(std::move(label)), tty_(::isatty(STDERR_FILENO) != 0),
-      start_(std::chrono::steady_clock::now()), last_print_(start_) {}
+    : total_(total),
+      label_(std::move(label)),
+      tty_(::isatty(STDERR_FILENO) != 0),
+      start_(std::chrono::steady_clock::now()),
+      last_print_(start_) {}
 
 ProgressReporter::~ProgressReporter() {
   if (!finished_ && tty_ && g_enabled) std::fputc('\n', stderr);
@@ -46,8 +51,8 @@ void ProgressReporter::update(std::size_t done, const std::string& extra) {
   const double eta = rate > 0 ? static_cast<double>(total_ - std::min(done, total_)) / rate : -1.0;
   const double frac = total_ > 0 ? static_cast<double>(done) / static_cast<double>(total_) : 1.0;
   char head[160];
-  std::snprintf(head, sizeof head, "%s %zu/%zu (%.0f%%) %.1f/s ETA %s", label_.c_str(), done, total_, 100.0 * frac, rate,
-                format_duration(eta).c_str());
+  std::snprintf(head, sizeof head, "%s %zu/%zu (%.0f%%) %.1f/s ETA %s", label_.c_str(), done, total_,
+                100.0 * frac, rate, format_duration(eta).c_str());
   if (tty_) {
     const int width = 24;
     const int filled = static_cast<int>(frac * width);

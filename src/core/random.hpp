@@ -41,7 +41,8 @@ class RandomStream {
   /// Sample from N(mean, cov) using the Cholesky factor of cov (cov must be positive semi-definite;
   /// the LDLT factorisation is used so singular covariances are handled).
   template <int N>
-  Eigen::Matrix<double, N, 1> gaussian(const Eigen::Matrix<double, N, 1>& mean, const Eigen::Matrix<double, N, N>& cov) {
+  Eigen::Matrix<double, N, 1> gaussian(const Eigen::Matrix<double, N, 1>& mean,
+                                       const Eigen::Matrix<double, N, N>& cov) {
     Eigen::Matrix<double, N, 1> n(mean.rows());
     for (Eigen::Index i = 0; i < mean.rows(); ++i) n(i) = normal();
     const Eigen::LDLT<Eigen::Matrix<double, N, N>> ldlt(cov);
