@@ -1,0 +1,75 @@
+#pragma once
+// Gibbs sampler for the δ-GLMB joint prediction/update (Vo, Vo & Hoang 2017; digest 0.2).
+//
+// An AssociationTable holds, for each row i (a surviving track or a birth), the sparse non-zero entries of
+// η_i(·) in log space over the columns
+//   kDead (= −1):   dead / not born            η_i(−1) = 1 − P̄_S  or  1 − r_B
+//   kMissed (= 0):  alive and missed           η_i(0)  = P̄_S (or r_B) · (1 − p_D)
+//   j ≥ 1:          alive and detected by z_j  η_i(j)  = P̄_S (or r_B) · p_D · N(z_j; ẑ, S) / κ(z_j)
+// (1-based measurement columns as in Vo's toolbox). Gated-out entries are simply absent.
+// The sampler draws γ ∈ {−1, 0, 1..M}^P with stationary distribution π(γ) ∝ Π_i η_i(γ_i) restricted to γ
+// whose positive entries are distinct (a measurement is used at most once).
+#include <cstdint>
+#include <vector>
+
+#include "core/random.hpp"
+
+namespace glmbslam::backend {
+
+class AssociationTable {
+ public:
+  static constexpr int kDead = -1;
+  static constexpr int kMissed = 0;
+
+  /// Empties the table (keeps capacity) for a problem with `num_measurements` measurements.
+  void reset(int num_measurements) {
+    num_measurements_ = num_measurements;
+    row_start_.clear();
+    row_start_.push_back(0);
+    column_.clear();
+    log_eta_.clear();
+  }
+  /// Adds entry (column, log η) to the current (last) row. Entries with log η = −∞ may be skipped by callers.
+  void add(int column, double log_eta) {
+    column_.push_back(column);
+    log_eta_.push_back(log_eta);
+  }
+  /// Closes the current row; the next add() starts a new one.
+  void end_row() { row_start_.push_back(static_cast<int>(column_.size())); }
+
+  int rows() const { return static_cast<int>(row_start_.size()) - 1; }
+  int num_measurements() const { return num_measurements_; }
+  int row_begin(int i) const { return row_start_[i]; }
+  int row_end(int i) const { return row_start_[i + 1]; }
+  int column(int e) const { return column_[e]; }
+  double log_eta(int e) const { return log_eta_[e]; }
+
+  /// log Π_i η_i(γ_i) for an assignment (−∞ if some γ_i has no entry).
+  double log_weight(const int* gamma) const;
+
+ private:
+  int num_measurements_ = 0;
+  std::vector<int> row_start_{0};
+  std::vector<int> column_;
+  std::vector<double> log_eta_;
+};
+
+/// Reusable buffers so that repeated sampling does not allocate.
+struct GibbsWorkspace {
+  std::vector<double> eta;    ///< per entry: exp(log η − row max)
+  std::vector<int> owner;     ///< per measurement column: the row using it, or −1
+  std::vector<int> current;   ///< current γ
+  std::vector<double> probs;  ///< per-entry scratch
+};
+
+/// Runs `sweeps` Gibbs sweeps starting from "all missed" (rows without a missed entry start at their best
+/// entry) and appends the initial state and every sweep's γ (rows() ints each) to `samples`.
+/// Returns the number of solutions appended (sweeps + 1). A table with zero rows yields one empty solution.
+int gibbs_sample(const AssociationTable& table, int sweeps, RandomStream& rng, GibbsWorkspace& ws,
+                 std::vector<int>& samples);
+
+/// Sorts the solutions (each `row_count` ints, stored contiguously) and removes duplicates in place;
+/// returns the number of distinct solutions.
+int unique_solutions(std::vector<int>& samples, int row_count, int count);
+
+}  // namespace glmbslam::backend

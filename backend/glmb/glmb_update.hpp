@@ -1,0 +1,349 @@
+#pragma once
+// δ-GLMB joint prediction/update of one landmark map at a given sensor pose (paper 000 Eq. 11–16, with the
+// Gibbs sampler of Vo, Vo & Hoang 2017; digest 0.2).
+//
+// Per call:
+//  1. Active tracks: those with p_D > 0 or p_S < 1 at the pose (a distance test rejects the rest at once).
+//     Inactive tracks have η(dead) = 0, η(missed) = 1, η(detected) = 0 and are copied through untouched.
+//  2. For every active track and every birth candidate: the innovation, gain and updated covariance are
+//     computed once; for every measurement passing the χ² gate the updated mean and the log likelihood are
+//     computed once (EKF update cached per track–measurement pair, shared by all hypotheses).
+//  3. Per parent hypothesis h: the sparse η table (rows: its active tracks, then the births), T_h ∝ √ω_h
+//  Gibbs
+//     sweeps, distinct solutions → children with log weight log ω_h + Σ_i log η_i(γ_i).
+//  4. log Ĝ = log Σ children weights (the δ-GLMB normaliser, = g(Z|Z_{1:k−1}, x_{0:k}) / (e^{−λ} Π κ)).
+//  5. Duplicate children merged, normalised, pruned (relative weight < prune_threshold), capped at H_max,
+//     renormalised; the track table is compacted to the referenced tracks.
+//  6. Birth candidates for the next update from this scan (adaptive birth): r_B = birth_prob_explained for
+//     a measurement that gated with an active track, birth_prob_unexplained otherwise.
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <string>
+#include <vector>
+
+#include <Eigen/Cholesky>
+#include <Eigen/Core>
+
+#include "backend/glmb/gibbs_sampler.hpp"
+#include "backend/glmb/glmb_config.hpp"
+#include "backend/glmb/glmb_map.hpp"
+#include "core/error.hpp"
+#include "core/gaussian.hpp"
+#include "core/log_math.hpp"
+#include "core/random.hpp"
+
+namespace glmbslam::backend {
+
+/// Innovation quantities of one landmark Gaussian at one pose, independent of the measurement.
+template <class Meas>
+struct Innovation {
+  typename Meas::Measurement zhat;
+  typename Meas::LandmarkJacobian H_m;
+  Eigen::LLT<typename Meas::MeasurementCovariance> S_llt;
+  Eigen::Matrix<double, Meas::kLandmarkDim, Meas::kMeasDim> K;  ///< P H_mᵀ S⁻¹
+  typename Meas::LandmarkCovariance P_updated;                  ///< Joseph form (I−KH)P(I−KH)ᵀ + KRKᵀ
+  double log_norm = 0.0;                                        ///< −½(d log 2π + log|S|)
+  bool valid = false;
+
+  void compute(const Meas& model, const typename Meas::Pose& x, const typename Meas::Landmark& mean,
+               const typename Meas::LandmarkCovariance& P) {
+    zhat = model.linearize(x, mean, nullptr, &H_m);
+    typename Meas::MeasurementCovariance S = H_m * P * H_m.transpose() + model.noise();
+    S_llt.compute(S);
+    valid = S_llt.info() == Eigen::Success;
+    if (!valid) return;
+    K = S_llt.solve(H_m * P).transpose();
+    const typename Meas::LandmarkCovariance I_KH = Meas::LandmarkCovariance::Identity() - K * H_m;
+    P_updated = I_KH * P * I_KH.transpose() + K * model.noise() * K.transpose();
+    symmetrize(P_updated);
+    double log_det = 0.0;
+    for (int i = 0; i < Meas::kMeasDim; ++i) log_det += std::log(S_llt.matrixLLT()(i, i));
+    log_norm = -0.5 * (Meas::kMeasDim * std::log(2.0 * M_PI)) - log_det;
+  }
+
+  /// Gated EKF update with measurement z: returns false if z is outside the gate; otherwise the updated mean
+  /// and log N(z; ẑ, S).
+  bool update(const Meas& model, const typename Meas::Landmark& mean, const typename Meas::Measurement& z,
+              double gate, typename Meas::Landmark* mean_out, double* log_likelihood) const {
+    if (!valid) return false;
+    const typename Meas::Measurement nu = model.residual(z, zhat);
+    const double d2 = S_llt.matrixL().solve(nu).squaredNorm();
+    if (!(d2 <= gate)) return false;
+    *mean_out = mean + K * nu;
+    *log_likelihood = log_norm - 0.5 * d2;
+    return true;
+  }
+};
+
+struct GlmbUpdateStats {
+  double log_normalizer = 0.0;  ///< log Ĝ
+  int active_tracks = 0;
+  int hypotheses = 0;
+  int tracks = 0;
+};
+
+template <class Meas>
+class GlmbUpdater {
+ public:
+  using Pose = typename Meas::Pose;
+  using Measurement = typename Meas::Measurement;
+  using MeasurementSet = std::vector<Measurement, Eigen::aligned_allocator<Measurement>>;
+  using Map = GlmbMap<Meas>;
+  using TrackType = Track<Meas>;
+
+  GlmbUpdater(const Meas& model, const GlmbConfig& config) : model_(model), config_(config) {}
+  const GlmbConfig& config() const { return config_; }
+  const Meas& model() const { return model_; }
+
+  /// Throws InputError if a measurement is not finite.
+  void validate(const MeasurementSet& Z, int step) const {
+    for (std::size_t j = 0; j < Z.size(); ++j) {
+      if (!model_.is_finite(Z[j])) {
+        throw InputError("measurement set", "time step " + std::to_string(step) + ": measurement " +
+                                                std::to_string(j) + " is not finite");
+      }
+    }
+  }
+
+  /// prior → posterior at pose x with the measurement set Z of time step `step`.
+  GlmbUpdateStats update(const Map& prior, const Pose& x, const MeasurementSet& Z, int step,
+                         RandomStream& rng, Map& posterior) const {
+    validate(Z, step);
+    Workspace& ws = workspace();
+    const int M = static_cast<int>(Z.size());
+    const int n_old = static_cast<int>(prior.tracks.size());
+    const int n_birth = static_cast<int>(prior.births.size());
+    const double gate = config_.gate_threshold;
+
+    // 1. active tracks
+    prior.find_active(model_, x, config_.fov_margin, ws.active);
+    // 2. row sources: active tracks (source index = track index order) and births; cached EKF pairs
+    ws.source_of_track.assign(n_old, -1);
+    ws.extra.clear();
+    ws.entry_column.clear();
+    ws.entry_log_eta.clear();
+    ws.entry_id.clear();
+    ws.source_begin.clear();
+    ws.explained.assign(M, 0);
+    Innovation<Meas> inn;
+    typename Meas::Landmark m_upd;
+    int num_active = 0;
+    auto add_source = [&](const Label& label, const typename Meas::Landmark& mean,
+                          const typename Meas::LandmarkCovariance& P, double log_exist, double log_not_exist,
+                          int missed_id, bool is_birth) {
+      ws.source_begin.push_back(static_cast<int>(ws.entry_column.size()));
+      const double pd = model_.detection_probability(x, mean);
+      if (log_not_exist > kLogZero) push_entry(ws, AssociationTable::kDead, log_not_exist, -1);
+      if (pd < 1.0) push_entry(ws, AssociationTable::kMissed, log_exist + std::log1p(-pd), missed_id);
+      if (pd <= 0.0) return;
+      inn.compute(model_, x, mean, P);
+      const double log_pd = std::log(pd);
+      for (int j = 0; j < M; ++j) {
+        double log_lik;
+        if (!inn.update(model_, mean, Z[j], gate, &m_upd, &log_lik)) continue;
+        if (!is_birth) ws.explained[j] = 1;
+        const int id = n_old + static_cast<int>(ws.extra.size());
+        ws.extra.push_back(TrackType{label, m_upd, inn.P_updated});
+        push_entry(ws, j + 1, log_exist + log_pd + log_lik - model_.log_clutter_intensity(Z[j]), id);
+      }
+    };
+    for (int t = 0; t < n_old; ++t) {
+      if (!ws.active[t]) continue;
+      const auto& tr = prior.tracks[t];
+      const double ps = model_.survival_probability(x, tr.mean);
+      ws.source_of_track[t] = num_active++;
+      add_source(tr.label, tr.mean, tr.cov, std::log(ps), ps < 1.0 ? std::log1p(-ps) : kLogZero, t, false);
+    }
+    // birth prior tracks get ids after the pair tracks created so far; give them their own slots first
+    ws.birth_prior_id.resize(n_birth);
+    for (int b = 0; b < n_birth; ++b) {
+      const auto& bc = prior.births[b];
+      ws.birth_prior_id[b] = n_old + static_cast<int>(ws.extra.size());
+      ws.extra.push_back(TrackType{bc.label, bc.mean, bc.cov});
+    }
+    for (int b = 0; b < n_birth; ++b) {
+      const auto& bc = prior.births[b];
+      const double log_r = bc.log_existence;
+      const double log_1mr = log_r < 0.0 ? std::log(-std::expm1(log_r)) : kLogZero;
+      add_source(bc.label, bc.mean, bc.cov, log_r, log_1mr, ws.birth_prior_id[b], true);
+    }
+    ws.source_begin.push_back(static_cast<int>(ws.entry_column.size()));
+
+    // 3. per parent hypothesis: Gibbs sampling of the children
+    ws.child_ids.clear();
+    ws.child_begin.clear();
+    ws.child_log_w.clear();
+    double sum_sqrt = 0.0;
+    for (const auto& h : prior.hypotheses) sum_sqrt += std::exp(0.5 * h.log_weight);
+    for (const auto& h : prior.hypotheses) {
+      ws.row_source.clear();
+      for (std::uint32_t t : h.tracks)
+        if (ws.source_of_track[t] >= 0) ws.row_source.push_back(ws.source_of_track[t]);
+      for (int b = 0; b < n_birth; ++b) ws.row_source.push_back(num_active + b);
+      ws.table.reset(M);
+      for (int s : ws.row_source) {
+        for (int e = ws.source_begin[s]; e < ws.source_begin[s + 1]; ++e)
+          ws.table.add(ws.entry_column[e], ws.entry_log_eta[e]);
+        ws.table.end_row();
+      }
+      const int rows = ws.table.rows();
+      const int sweeps =
+          rows == 0 ? 0
+                    : std::max(1, static_cast<int>(std::lround(config_.gibbs_samples *
+                                                               std::exp(0.5 * h.log_weight) / sum_sqrt)));
+      ws.samples.clear();
+      const int count = gibbs_sample(ws.table, sweeps, rng, ws.gibbs, ws.samples);
+      const int distinct = unique_solutions(ws.samples, rows, count);
+      for (int c = 0; c < distinct; ++c) {
+        const int* gamma = ws.samples.data() + static_cast<std::size_t>(c) * rows;
+        double log_w = h.log_weight;
+        ws.child_begin.push_back(static_cast<int>(ws.child_ids.size()));
+        for (std::uint32_t t : h.tracks)
+          if (ws.source_of_track[t] < 0) ws.child_ids.push_back(t);  // inactive: copied through
+        for (int i = 0; i < rows; ++i) {
+          const int s = ws.row_source[i];
+          int id = -2;
+          for (int e = ws.source_begin[s]; e < ws.source_begin[s + 1]; ++e) {
+            if (ws.entry_column[e] == gamma[i]) {
+              log_w += ws.entry_log_eta[e];
+              id = ws.entry_id[e];
+              break;
+            }
+          }
+          if (id == -2) log_w = kLogZero;
+          if (id >= 0) ws.child_ids.push_back(static_cast<std::uint32_t>(id));
+        }
+        if (log_w == kLogZero) {
+          ws.child_ids.resize(ws.child_begin.back());
+          ws.child_begin.pop_back();
+          continue;
+        }
+        ws.child_log_w.push_back(log_w);
+      }
+    }
+    const int n_children = static_cast<int>(ws.child_log_w.size());
+    ws.child_begin.push_back(static_cast<int>(ws.child_ids.size()));
+
+    GlmbUpdateStats stats;
+    stats.active_tracks = num_active;
+    // 4. normaliser
+    stats.log_normalizer = log_sum_exp(ws.child_log_w);
+
+    // 5. merge duplicates (children with identical sorted track-id sets), normalise, prune, cap
+    ws.child_hash.resize(n_children);
+    for (int c = 0; c < n_children; ++c) {
+      auto b = ws.child_ids.begin() + ws.child_begin[c], e = ws.child_ids.begin() + ws.child_begin[c + 1];
+      std::sort(b, e);
+      std::uint64_t hsh = 0x9e3779b97f4a7c15ULL ^ static_cast<std::uint64_t>(e - b);
+      for (auto it = b; it != e; ++it) hsh = splitmix64(hsh ^ *it);
+      ws.child_hash[c] = hsh;
+    }
+    ws.order.resize(n_children);
+    std::iota(ws.order.begin(), ws.order.end(), 0);
+    auto same_ids = [&](int a, int b) {
+      return ws.child_begin[a + 1] - ws.child_begin[a] == ws.child_begin[b + 1] - ws.child_begin[b] &&
+             std::equal(ws.child_ids.begin() + ws.child_begin[a],
+                        ws.child_ids.begin() + ws.child_begin[a + 1],
+                        ws.child_ids.begin() + ws.child_begin[b]);
+    };
+    std::sort(ws.order.begin(), ws.order.end(), [&](int a, int b) {
+      if (ws.child_hash[a] != ws.child_hash[b]) return ws.child_hash[a] < ws.child_hash[b];
+      return std::lexicographical_compare(
+          ws.child_ids.begin() + ws.child_begin[a], ws.child_ids.begin() + ws.child_begin[a + 1],
+          ws.child_ids.begin() + ws.child_begin[b], ws.child_ids.begin() + ws.child_begin[b + 1]);
+    });
+    ws.merged.clear();
+    for (int k = 0; k < n_children; ++k) {
+      const int c = ws.order[k];
+      if (!ws.merged.empty() && ws.child_hash[ws.merged.back().first] == ws.child_hash[c] &&
+          same_ids(ws.merged.back().first, c)) {
+        ws.merged.back().second = log_add(ws.merged.back().second, ws.child_log_w[c]);
+      } else {
+        ws.merged.emplace_back(c, ws.child_log_w[c]);
+      }
+    }
+    std::sort(ws.merged.begin(), ws.merged.end(), [](const auto& a, const auto& b) {
+      return a.second != b.second ? a.second > b.second : a.first < b.first;
+    });
+    const double log_prune = std::log(config_.prune_threshold);
+    std::size_t keep = 0;
+    for (; keep < ws.merged.size() && static_cast<int>(keep) < config_.max_hypotheses; ++keep) {
+      if (keep > 0 && ws.merged[keep].second - stats.log_normalizer < log_prune) break;
+    }
+    ws.merged.resize(keep);
+    double log_kept = kLogZero;
+    for (const auto& mc : ws.merged) log_kept = log_add(log_kept, mc.second);
+
+    // compaction: new indices in increasing id order, so sorted id lists stay sorted
+    const int n_ids = n_old + static_cast<int>(ws.extra.size());
+    ws.new_index.assign(n_ids, -1);
+    for (const auto& mc : ws.merged)
+      for (int k = ws.child_begin[mc.first]; k < ws.child_begin[mc.first + 1]; ++k)
+        ws.new_index[ws.child_ids[k]] = 0;
+    posterior.tracks.clear();
+    for (int id = 0; id < n_ids; ++id) {
+      if (ws.new_index[id] < 0) continue;
+      ws.new_index[id] = static_cast<int>(posterior.tracks.size());
+      posterior.tracks.push_back(id < n_old ? prior.tracks[id] : ws.extra[id - n_old]);
+    }
+    posterior.hypotheses.resize(ws.merged.size());
+    for (std::size_t k = 0; k < ws.merged.size(); ++k) {
+      const auto& mc = ws.merged[k];
+      Hypothesis& h = posterior.hypotheses[k];
+      h.log_weight = mc.second - log_kept;
+      h.tracks.clear();
+      for (int i = ws.child_begin[mc.first]; i < ws.child_begin[mc.first + 1]; ++i)
+        h.tracks.push_back(static_cast<std::uint32_t>(ws.new_index[ws.child_ids[i]]));
+    }
+    if (posterior.hypotheses.empty()) posterior.hypotheses.push_back(Hypothesis{0.0, {}});
+
+    // 6. birth candidates for the next update
+    posterior.births.clear();
+    if (config_.births) {
+      const double log_unexplained = std::log(config_.birth_prob_unexplained);
+      const double log_explained = std::log(config_.birth_prob_explained);
+      for (int j = 0; j < M; ++j) {
+        BirthCandidate<Meas> bc;
+        bc.label = Label{step + 1, j};
+        model_.initialize(x, Z[j], &bc.mean, &bc.cov);
+        bc.log_existence = ws.explained[j] ? log_explained : log_unexplained;
+        posterior.births.push_back(bc);
+      }
+    }
+    stats.hypotheses = static_cast<int>(posterior.hypotheses.size());
+    stats.tracks = static_cast<int>(posterior.tracks.size());
+    return stats;
+  }
+
+ private:
+  struct Workspace {
+    std::vector<char> active;
+    std::vector<int> source_of_track, source_begin, entry_column, entry_id, birth_prior_id, row_source;
+    std::vector<double> entry_log_eta;
+    std::vector<char> explained;
+    std::vector<TrackType, Eigen::aligned_allocator<TrackType>> extra;
+    AssociationTable table;
+    GibbsWorkspace gibbs;
+    std::vector<int> samples;
+    std::vector<std::uint32_t> child_ids;
+    std::vector<int> child_begin, order, new_index;
+    std::vector<double> child_log_w;
+    std::vector<std::uint64_t> child_hash;
+    std::vector<std::pair<int, double>> merged;
+  };
+  static Workspace& workspace() {
+    static thread_local Workspace ws;
+    return ws;
+  }
+  static void push_entry(Workspace& ws, int column, double log_eta, int id) {
+    ws.entry_column.push_back(column);
+    ws.entry_log_eta.push_back(log_eta);
+    ws.entry_id.push_back(id);
+  }
+
+  Meas model_;
+  GlmbConfig config_;
+};
+
+}  // namespace glmbslam::backend

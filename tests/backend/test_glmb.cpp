@@ -1,0 +1,284 @@
+// δ-GLMB joint prediction/update: brute-force enumeration on a tiny problem, closed-form EKF update,
+// map estimate, and degenerate inputs.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <map>
+#include <vector>
+
+#include "backend/glmb/glmb_update.hpp"
+#include "backend/models/range_bearing_model.hpp"
+
+namespace glmbslam::backend {
+namespace {
+
+using Model = RangeBearingModel;
+using Map = GlmbMap<Model>;
+using Updater = GlmbUpdater<Model>;
+using Z = Updater::MeasurementSet;
+
+RangeBearingConfig small_sensor() {
+  RangeBearingConfig c;
+  c.sigma_range = 0.1;
+  c.sigma_bearing = 2.0 * M_PI / 180.0;
+  c.max_range = 10.0;
+  c.half_fov = M_PI / 2;
+  c.p_detect_inside = 0.8;
+  c.p_survive_inside = 0.9;
+  c.clutter_rate = 2.0;
+  return c;
+}
+
+Track<Model> make_track(int step, int index, double x, double y, double var) {
+  return Track<Model>{Label{step, index}, Eigen::Vector2d(x, y), Eigen::Matrix2d::Identity() * var};
+}
+
+TEST(Innovation, EkfUpdateMatchesClosedForm) {
+  const Model model(small_sensor());
+  const Pose2 x(0, 0, 0);
+  const Eigen::Vector2d mean(5.0, 0.0);
+  const double p1 = 0.04, p2 = 0.09;
+  const Eigen::Matrix2d P = Eigen::Vector2d(p1, p2).asDiagonal();
+  Innovation<Model> inn;
+  inn.compute(model, x, mean, P);
+  const double sr2 = 0.01, sb2 = std::pow(2.0 * M_PI / 180.0, 2);
+  const Eigen::Vector2d z(5.3, 0.02);
+  Eigen::Vector2d m_out;
+  double log_lik;
+  ASSERT_TRUE(inn.update(model, mean, z, 1e9, &m_out, &log_lik));
+  // H_m = diag(1, 1/5) at (5, 0): S = diag(p1 + σr², p2/25 + σb²), K = diag(p1/S1, (p2/5)/S2)
+  const double S1 = p1 + sr2, S2 = p2 / 25.0 + sb2;
+  EXPECT_NEAR(m_out(0), 5.0 + p1 / S1 * 0.3, 1e-12);
+  EXPECT_NEAR(m_out(1), (p2 / 5.0) / S2 * 0.02, 1e-12);
+  EXPECT_NEAR(inn.P_updated(0, 0), p1 * sr2 / S1, 1e-12);
+  EXPECT_NEAR(inn.P_updated(1, 1), p2 * sb2 / S2, 1e-12);
+  EXPECT_NEAR(inn.P_updated(0, 1), 0.0, 1e-12);
+  const double expected =
+      -std::log(2 * M_PI) - 0.5 * std::log(S1 * S2) - 0.5 * (0.3 * 0.3 / S1 + 0.02 * 0.02 / S2);
+  EXPECT_NEAR(log_lik, expected, 1e-10);
+}
+
+struct BruteChild {
+  double log_w;
+  std::map<std::uint64_t, Eigen::Vector2d> landmarks;  // label key → mean
+};
+
+// Independent enumeration of Eq. 11–16 for every parent hypothesis and every valid association.
+std::vector<BruteChild> brute_force(const Model& model, const Map& prior, const Pose2& x, const Z& z) {
+  std::vector<BruteChild> out;
+  const int M = static_cast<int>(z.size());
+  for (const auto& h : prior.hypotheses) {
+    struct Row {
+      Label label;
+      Eigen::Vector2d mean;
+      Eigen::Matrix2d P;
+      double r;  // existence factor (p_S or r_B)
+    };
+    std::vector<Row> rows;
+    std::map<std::uint64_t, Eigen::Vector2d> passive;
+    for (auto t : h.tracks) {
+      const auto& tr = prior.tracks[t];
+      if (model.in_field_of_view(x, tr.mean)) {
+        rows.push_back({tr.label, tr.mean, tr.cov, model.survival_probability(x, tr.mean)});
+      } else {
+        passive[tr.label.key()] = tr.mean;
+      }
+    }
+    for (const auto& b : prior.births) rows.push_back({b.label, b.mean, b.cov, std::exp(b.log_existence)});
+    const int P = static_cast<int>(rows.size());
+    std::vector<int> g(P, -1);
+    while (true) {
+      bool valid = true;
+      for (int i = 0; i < P && valid; ++i)
+        for (int k = i + 1; k < P; ++k)
+          if (g[i] > 0 && g[i] == g[k]) valid = false;
+      if (valid) {
+        BruteChild c{h.log_weight, passive};
+        for (int i = 0; i < P; ++i) {
+          const Row& r = rows[i];
+          const double pd = model.detection_probability(x, r.mean);
+          if (g[i] == -1) {
+            c.log_w += std::log(1 - r.r);
+            continue;
+          }
+          if (g[i] == 0) {
+            c.log_w += std::log(r.r * (1 - pd));
+            c.landmarks[r.label.key()] = r.mean;
+            continue;
+          }
+          Model::LandmarkJacobian H;
+          const Eigen::Vector2d zhat = model.linearize(x, r.mean, nullptr, &H);
+          const Eigen::Matrix2d S = H * r.P * H.transpose() + model.noise();
+          const Eigen::Vector2d nu = model.residual(z[g[i] - 1], zhat);
+          const double lik =
+              std::exp(-0.5 * nu.dot(S.inverse() * nu)) / (2 * M_PI * std::sqrt(S.determinant()));
+          c.log_w += std::log(r.r * pd * lik) - model.log_clutter_intensity(z[g[i] - 1]);
+          c.landmarks[r.label.key()] = r.mean + r.P * H.transpose() * S.inverse() * nu;
+        }
+        out.push_back(c);
+      }
+      int i = 0;
+      while (i < P && ++g[i] > M) g[i++] = -1;
+      if (i == P) break;
+    }
+  }
+  return out;
+}
+
+TEST(GlmbUpdate, MatchesBruteForceEnumeration) {
+  RangeBearingConfig sensor = small_sensor();  // broad noise, so that every association has a findable weight
+  sensor.sigma_range = 1.0;
+  sensor.sigma_bearing = 25.0 * M_PI / 180.0;
+  sensor.clutter_rate = 1.0;
+  sensor.p_detect_inside = 0.6;
+  sensor.p_survive_inside = 0.7;
+  const Model model(sensor);
+  GlmbConfig config;
+  config.gate_threshold = 1e12;  // no gating, so brute force and sampler see the same table
+  config.gibbs_samples = 20000;
+  config.prune_threshold = 0.0;
+  config.max_hypotheses = 100000;
+  const Updater updater(model, config);
+  Map prior;
+  prior.tracks.push_back(make_track(0, 0, 4.0, 1.0, 0.05));   // in view
+  prior.tracks.push_back(make_track(0, 1, 5.0, -1.5, 0.08));  // in view
+  prior.tracks.push_back(make_track(0, 2, -6.0, 0.0, 0.05));  // behind the sensor: passive
+  prior.hypotheses.push_back(Hypothesis{std::log(0.6), {0, 1, 2}});
+  prior.hypotheses.push_back(Hypothesis{std::log(0.4), {0, 2}});
+  BirthCandidate<Model> b;
+  b.label = Label{1, 0};
+  b.mean = Eigen::Vector2d(3.0, 3.0);
+  b.cov = Eigen::Matrix2d::Identity() * 0.02;
+  b.log_existence = std::log(0.4);
+  prior.births.push_back(b);
+  const Pose2 x(0.1, 0.0, 0.05);
+  Z z;
+  z.push_back(model.predict(x, Eigen::Vector2d(4.05, 0.95)));
+  z.push_back(model.predict(x, Eigen::Vector2d(3.1, 2.9)));
+  RandomStream rng(7, 0);
+  Map post;
+  const GlmbUpdateStats stats = updater.update(prior, x, z, 1, rng, post);
+  std::vector<BruteChild> brute;  // children of different parents with the same labelled densities merge
+  for (const auto& c : brute_force(model, prior, x, z)) {
+    bool merged = false;
+    for (auto& d : brute) {
+      if (d.landmarks.size() != c.landmarks.size()) continue;
+      bool same = true;
+      for (const auto& [key, mean] : c.landmarks) {
+        const auto it = d.landmarks.find(key);
+        if (it == d.landmarks.end() || (it->second - mean).norm() > 1e-12) same = false;
+      }
+      if (same) {
+        d.log_w = log_add(d.log_w, c.log_w);
+        merged = true;
+        break;
+      }
+    }
+    if (!merged) brute.push_back(c);
+  }
+  std::vector<double> logs;
+  for (const auto& c : brute) logs.push_back(c.log_w);
+  const double log_norm = log_sum_exp(logs);
+  double min_w = 0.0;
+  for (const auto& c : brute) min_w = std::min(min_w, c.log_w - log_norm);
+  ASSERT_GT(min_w, std::log(1e-5)) << "the test problem must keep every hypothesis findable";
+  EXPECT_NEAR(stats.log_normalizer, log_norm, 1e-9);
+  EXPECT_EQ(stats.active_tracks, 2);
+  ASSERT_EQ(post.hypotheses.size(), brute.size());
+  double total = 0.0;
+  for (const auto& h : post.hypotheses) total += std::exp(h.log_weight);
+  EXPECT_NEAR(total, 1.0, 1e-12);
+  // match each brute-force child to a posterior hypothesis with the same labels and means
+  for (const auto& c : brute) {
+    bool found = false;
+    for (const auto& h : post.hypotheses) {
+      if (h.tracks.size() != c.landmarks.size()) continue;
+      bool same = true;
+      for (auto t : h.tracks) {
+        const auto it = c.landmarks.find(post.tracks[t].label.key());
+        if (it == c.landmarks.end() || (it->second - post.tracks[t].mean).norm() > 1e-9) same = false;
+      }
+      if (!same) continue;
+      found = true;
+      EXPECT_NEAR(h.log_weight, c.log_w - log_norm, 1e-9);
+    }
+    EXPECT_TRUE(found);
+  }
+  // next-step births: z_1 gates with a mapped landmark, but the gate is infinite here, so both are explained
+  ASSERT_EQ(post.births.size(), 2u);
+  EXPECT_EQ(post.births[0].label, (Label{2, 0}));
+}
+
+TEST(GlmbUpdate, EstimateUsesMapCardinality) {
+  Map m;
+  m.tracks.push_back(make_track(0, 0, 1, 1, 0.1));
+  m.tracks.push_back(make_track(0, 1, 2, 2, 0.1));
+  m.tracks.push_back(make_track(0, 2, 3, 3, 0.1));
+  m.hypotheses.push_back(Hypothesis{std::log(0.4), {0, 1, 2}});
+  m.hypotheses.push_back(Hypothesis{std::log(0.35), {0, 1}});
+  m.hypotheses.push_back(Hypothesis{std::log(0.25), {0, 2}});
+  const auto est = estimate_map(m);  // ρ(2) = 0.6 > ρ(3) = 0.4 → best 2-hypothesis {0, 1}
+  ASSERT_EQ(est.size(), 2u);
+  EXPECT_EQ(est[0].label, (Label{0, 0}));
+  EXPECT_EQ(est[1].label, (Label{0, 1}));
+  EXPECT_NEAR(est[0].existence, 1.0, 1e-12);
+  EXPECT_NEAR(est[1].existence, 0.75, 1e-12);
+}
+
+class GlmbDegenerate : public ::testing::Test {
+ protected:
+  GlmbDegenerate() : model_(small_sensor()), updater_(model_, GlmbConfig{}) {
+    prior_.tracks.push_back(make_track(0, 0, 4.0, 0.0, 0.05));
+    prior_.hypotheses.push_back(Hypothesis{0.0, {0}});
+  }
+  Model model_;
+  Updater updater_;
+  Map prior_;
+  RandomStream rng_{3, 0};
+};
+
+TEST_F(GlmbDegenerate, EmptyMeasurementSet) {
+  Map post;
+  const auto stats = updater_.update(prior_, Pose2(0, 0, 0), Z{}, 1, rng_, post);
+  // children: dead (1 − p_S) and missed (p_S (1 − p_D)); Ĝ = 0.1 + 0.9·0.2
+  EXPECT_NEAR(stats.log_normalizer, std::log(0.1 + 0.9 * 0.2), 1e-12);
+  ASSERT_EQ(post.hypotheses.size(), 2u);
+  EXPECT_NEAR(std::exp(post.hypotheses[0].log_weight), 0.18 / 0.28, 1e-12);
+  EXPECT_TRUE(post.births.empty());
+}
+
+TEST_F(GlmbDegenerate, AllClutter) {
+  Map post;
+  Z z;
+  z.push_back(Eigen::Vector2d(8.0, 1.0));
+  z.push_back(Eigen::Vector2d(2.0, -1.2));
+  const auto stats = updater_.update(prior_, Pose2(0, 0, 0), z, 1, rng_, post);
+  EXPECT_NEAR(stats.log_normalizer, std::log(0.1 + 0.9 * 0.2), 1e-12);  // nothing gates
+  ASSERT_EQ(post.births.size(), 2u);
+  EXPECT_NEAR(std::exp(post.births[0].log_existence), 1e-4, 1e-15);  // unexplained
+  for (const auto& b : post.births) EXPECT_TRUE(b.mean.allFinite());
+}
+
+TEST_F(GlmbDegenerate, LandmarkExactlyAtTheSensor) {
+  Map post;
+  Z z;
+  z.push_back(Eigen::Vector2d(0.0, 0.0));
+  const auto stats = updater_.update(prior_, Pose2(4.0, 0.0, 0.0), z, 1, rng_, post);
+  EXPECT_EQ(stats.active_tracks, 0);  // out of view: copied through
+  ASSERT_EQ(post.hypotheses.size(), 1u);
+  ASSERT_EQ(post.tracks.size(), 1u);
+  EXPECT_TRUE(post.tracks[0].mean.allFinite());
+  EXPECT_NEAR(stats.log_normalizer, 0.0, 1e-12);
+  ASSERT_EQ(post.births.size(), 1u);
+  EXPECT_TRUE(post.births[0].mean.allFinite() && post.births[0].cov.allFinite());
+}
+
+TEST_F(GlmbDegenerate, NanMeasurementIsRejected) {
+  Map post;
+  Z z;
+  z.push_back(Eigen::Vector2d(1.0, std::nan("")));
+  EXPECT_THROW(updater_.update(prior_, Pose2(0, 0, 0), z, 1, rng_, post), InputError);
+}
+
+}  // namespace
+}  // namespace glmbslam::backend
