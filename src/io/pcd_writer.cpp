@@ -160,17 +160,31 @@ std::vector<MapPoint> read_pcd_map(const std::string& path) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) throw InputError(path, "PCD map not found");
   pcl::PCLPointCloud2 cloud;
-  int rc = -1;
   try {
     pcl::PCDReader reader;
-    rc = reader.read(path, cloud);
+    // The header is checked first: PCDReader::read crashes on a file without a FIELDS line.
+    Eigen::Vector4f origin;
+    Eigen::Quaternionf orientation;
+    int version = 0;
+    int data_type = 0;
+    unsigned int data_index = 0;
+    if (reader.readHeader(path, cloud, origin, orientation, version, data_type, data_index) < 0) {
+      throw InputError(path, "unreadable PCD file (bad header)");
+    }
+    if (cloud.fields.empty() || cloud.point_step == 0)
+      throw InputError(path, "unreadable PCD file (no FIELDS)");
+    const std::size_t declared = static_cast<std::size_t>(cloud.width) * cloud.height;
+    if (data_type == 1 && std::filesystem::file_size(path, ec) < data_index + declared * cloud.point_step) {
+      throw InputError(path, "PCD data is shorter than its header says (file truncated?)");
+    }
+    if (declared > 0 && reader.read(path, cloud) < 0) {
+      throw InputError(path, "unreadable PCD file");
+    }
   } catch (const pcl::PCLException& e) {
     throw InputError(path, std::string("unreadable PCD file (") + e.what() + ")");
   }
-  if (rc < 0) throw InputError(path, "unreadable PCD file");
   const std::size_t n = static_cast<std::size_t>(cloud.width) * cloud.height;
   std::vector<MapPoint> out;
-  if (n == 0) return out;
   const int ix = field_index(cloud, "x");
   const int il = field_index(cloud, "label");
   const int ie = field_index(cloud, "existence");
@@ -179,6 +193,9 @@ std::vector<MapPoint> read_pcd_map(const std::string& path) {
   }
   if (il < 0) throw InputError(path, "PCD file lacks the 'label' field");
   if (ie < 0) throw InputError(path, "PCD file lacks the 'existence' field");
+  if (n == 0) return out;
+  if (cloud.data.size() < n * cloud.point_step)
+    throw InputError(path, "PCD data is shorter than its header says");
   // Positions through pcl::fromPCLPointCloud2 into PointXYZ, exactly as pcl_viewer reads them.
   pcl::PointCloud<pcl::PointXYZ> xyz;
   pcl::fromPCLPointCloud2(cloud, xyz);
