@@ -1,0 +1,273 @@
+#pragma once
+// The optimal-kernel proposal of δ-GLMB-SLAM 2.0 (paper 000 Eq. 30–32), as the step-by-step algorithm of
+// digest 0.5:
+//  1. x̄ = f(x⁻, u), P̄ = F_ε Q F_εᵀ + regulariser (P_x = 0 for a sampled particle).
+//  2. The highest-weight map hypotheses (proposal_hypotheses, weight ≥ proposal_min_weight; the best always).
+//  3. Per hypothesis: association hypotheses θ from the Gibbs sampler at x̄ with the pose-marginal innovation
+//     S' = H_m P H_mᵀ + H_x P̄ H_xᵀ + R; weight W = ω_h Π_i η_i(θ_i) (births are not used in the proposal).
+//  4. Per (h, θ): the FastSLAM-2.0 Gaussian by partitioned KF updates of (x̄, P̄) with every detection of θ,
+//     relinearised up to ipl_iterations times (paper 003 Algorithm 1, first-order), stopping when the KL
+//     divergence between successive iterates is below ipl_tolerance.
+//  5. Components normalised; moment-matched to one Gaussian (what paper 000 does), or kept as a mixture.
+// log Σ W (over every association hypothesis found) is Eq. 33's marginal, used by the "paper" weighting.
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include <Eigen/Cholesky>
+#include <Eigen/Core>
+
+#include "backend/glmb/gibbs_sampler.hpp"
+#include "backend/glmb/glmb_map.hpp"
+#include "backend/rbpf/rbpf_config.hpp"
+#include "core/gaussian.hpp"
+#include "core/log_math.hpp"
+#include "core/random.hpp"
+
+namespace glmbslam::backend {
+
+template <class Motion, class Meas>
+class OptimalProposal {
+ public:
+  static constexpr int kDim = Motion::kDim;
+  using State = typename Motion::State;
+  using Tangent = typename Motion::Tangent;
+  using Covariance = typename Motion::Covariance;
+  using Measurement = typename Meas::Measurement;
+  using MeasurementSet = std::vector<Measurement, Eigen::aligned_allocator<Measurement>>;
+
+  struct Component {
+    double log_weight = 0.0;  ///< normalised over the kept components
+    State mean;
+    Covariance cov;
+    EIGEN_MAKE_ALIGNED_OPERATOR_NEW
+  };
+  struct Result {
+    std::vector<Component, Eigen::aligned_allocator<Component>> components;
+    State mean;                      ///< moment match
+    Covariance cov;                  ///< moment match
+    double log_marginal = kLogZero;  ///< log Σ_{h,θ} W_{h,θ}
+    bool mixture = false;
+    EIGEN_MAKE_ALIGNED_OPERATOR_NEW
+  };
+
+  OptimalProposal(const Motion& motion, const Meas& model, const RbpfConfig& config)
+      : motion_(motion), model_(model), config_(config) {}
+
+  void build(const GlmbMap<Meas>& map, const State& x_pred, const Covariance& P_pred, const MeasurementSet& Z,
+             RandomStream& rng, Result& out) const {
+    Workspace& ws = workspace();
+    const int M = static_cast<int>(Z.size());
+    const double gate =
+        config_.proposal_gate_threshold > 0.0 ? config_.proposal_gate_threshold : config_.glmb.gate_threshold;
+    // active tracks, with a margin for the pose uncertainty
+    const double pos_sigma = std::sqrt(std::max(0.0, P_pred.template topLeftCorner<2, 2>().trace()));
+    map.find_active(model_, x_pred, config_.glmb.fov_margin + 3.0 * pos_sigma, ws.active);
+    // rows per active track (no births)
+    ws.source_of_track.assign(map.tracks.size(), -1);
+    ws.source_begin.clear();
+    ws.entry_column.clear();
+    ws.entry_log_eta.clear();
+    int num_active = 0;
+    for (std::size_t t = 0; t < map.tracks.size(); ++t) {
+      if (!ws.active[t]) continue;
+      const auto& tr = map.tracks[t];
+      ws.source_of_track[t] = num_active++;
+      ws.source_begin.push_back(static_cast<int>(ws.entry_column.size()));
+      const double ps = model_.survival_probability(x_pred, tr.mean);
+      const double pd = model_.detection_probability(x_pred, tr.mean);
+      if (ps < 1.0) push(ws, AssociationTable::kDead, std::log1p(-ps));
+      if (pd < 1.0) push(ws, AssociationTable::kMissed, std::log(ps) + std::log1p(-pd));
+      if (pd <= 0.0) continue;
+      typename Meas::PoseJacobian Hx;
+      typename Meas::LandmarkJacobian Hm;
+      const Measurement zhat = model_.linearize(x_pred, tr.mean, &Hx, &Hm);
+      const typename Meas::MeasurementCovariance S =
+          Hm * tr.cov * Hm.transpose() + Hx * P_pred * Hx.transpose() + model_.noise();
+      const Eigen::LLT<typename Meas::MeasurementCovariance> llt(S);
+      if (llt.info() != Eigen::Success) continue;
+      double log_det = 0.0;
+      for (int i = 0; i < Meas::kMeasDim; ++i) log_det += std::log(llt.matrixLLT()(i, i));
+      const double log_norm = -0.5 * Meas::kMeasDim * std::log(2.0 * M_PI) - log_det;
+      const double base = std::log(ps) + std::log(pd);
+      for (int j = 0; j < M; ++j) {
+        const Measurement nu = model_.residual(Z[j], zhat);
+        const double d2 = llt.matrixL().solve(nu).squaredNorm();
+        if (!(d2 <= gate)) continue;
+        push(ws, j + 1, base + log_norm - 0.5 * d2 - model_.log_clutter_intensity(Z[j]));
+      }
+    }
+    ws.source_begin.push_back(static_cast<int>(ws.entry_column.size()));
+
+    // association hypotheses per chosen map hypothesis
+    ws.cand_log_w.clear();
+    ws.cand_begin.clear();
+    ws.cand_pairs.clear();
+    const int n_hyp = std::min<int>(config_.proposal_hypotheses, static_cast<int>(map.hypotheses.size()));
+    for (int hi = 0; hi < n_hyp; ++hi) {
+      const Hypothesis& h = map.hypotheses[hi];
+      if (hi > 0 && std::exp(h.log_weight) < config_.proposal_min_weight) break;
+      ws.row_track.clear();
+      ws.table.reset(M);
+      for (std::uint32_t t : h.tracks) {
+        const int s = ws.source_of_track[t];
+        if (s < 0) continue;
+        ws.row_track.push_back(static_cast<int>(t));
+        for (int e = ws.source_begin[s]; e < ws.source_begin[s + 1]; ++e)
+          ws.table.add(ws.entry_column[e], ws.entry_log_eta[e]);
+        ws.table.end_row();
+      }
+      const int rows = ws.table.rows();
+      ws.samples.clear();
+      const int count =
+          gibbs_sample(ws.table, rows == 0 ? 0 : config_.proposal_gibbs_samples, rng, ws.gibbs, ws.samples);
+      const int distinct = unique_solutions(ws.samples, rows, count);
+      for (int c = 0; c < distinct; ++c) {
+        const int* gamma = ws.samples.data() + static_cast<std::size_t>(c) * rows;
+        const double lw = ws.table.log_weight(gamma);
+        if (lw == kLogZero) continue;
+        ws.cand_log_w.push_back(h.log_weight + lw);
+        ws.cand_begin.push_back(static_cast<int>(ws.cand_pairs.size()));
+        for (int i = 0; i < rows; ++i)
+          if (gamma[i] > 0) ws.cand_pairs.emplace_back(ws.row_track[i], gamma[i] - 1);
+      }
+    }
+    ws.cand_begin.push_back(static_cast<int>(ws.cand_pairs.size()));
+    const int n_cand = static_cast<int>(ws.cand_log_w.size());
+    out.log_marginal = log_sum_exp(ws.cand_log_w);
+    out.mixture = config_.proposal_mixture;
+    out.components.clear();
+    // keep the best components
+    ws.order.resize(n_cand);
+    for (int c = 0; c < n_cand; ++c) ws.order[c] = c;
+    const int keep = std::min(n_cand, config_.proposal_max_components);
+    std::partial_sort(ws.order.begin(), ws.order.begin() + keep, ws.order.end(), [&](int a, int b) {
+      return ws.cand_log_w[a] != ws.cand_log_w[b] ? ws.cand_log_w[a] > ws.cand_log_w[b] : a < b;
+    });
+    double log_total = kLogZero;
+    for (int k = 0; k < keep; ++k) log_total = log_add(log_total, ws.cand_log_w[ws.order[k]]);
+    for (int k = 0; k < keep; ++k) {
+      const int c = ws.order[k];
+      Component comp;
+      comp.log_weight = ws.cand_log_w[c] - log_total;
+      fastslam_gaussian(map, Z, x_pred, P_pred, ws.cand_begin[c], ws.cand_begin[c + 1], ws, comp.mean,
+                        comp.cov);
+      out.components.push_back(comp);
+    }
+    if (out.components.empty()) {  // no map in view: the motion prior
+      Component comp;
+      comp.mean = x_pred;
+      comp.cov = P_pred;
+      out.components.push_back(comp);
+    }
+    // moment match in the tangent space at x̄
+    Tangent d_mean = Tangent::Zero();
+    for (const auto& c : out.components) d_mean += std::exp(c.log_weight) * Motion::local(c.mean, x_pred);
+    out.mean = Motion::retract(x_pred, d_mean);
+    out.cov.setZero();
+    for (const auto& c : out.components) {
+      const Tangent d = Motion::local(c.mean, out.mean);
+      out.cov += std::exp(c.log_weight) * (c.cov + d * d.transpose());
+    }
+    symmetrize(out.cov);
+  }
+
+  /// Draws x ~ q (the moment-matched Gaussian, or the mixture).
+  State sample(const Result& q, RandomStream& rng) const {
+    if (!q.mixture) return Motion::retract(q.mean, rng.gaussian<kDim>(Tangent::Zero(), q.cov));
+    double u = rng.uniform();
+    std::size_t c = 0;
+    for (; c + 1 < q.components.size(); ++c) {
+      u -= std::exp(q.components[c].log_weight);
+      if (u < 0.0) break;
+    }
+    return Motion::retract(q.components[c].mean, rng.gaussian<kDim>(Tangent::Zero(), q.components[c].cov));
+  }
+
+  /// log q(x).
+  double log_density(const Result& q, const State& x) const {
+    if (!q.mixture) return log_gaussian(Motion::local(x, q.mean), q.cov);
+    double s = kLogZero;
+    for (const auto& c : q.components)
+      s = log_add(s, c.log_weight + log_gaussian(Motion::local(x, c.mean), c.cov));
+    return s;
+  }
+
+ private:
+  struct Workspace {
+    std::vector<char> active;
+    std::vector<int> source_of_track, source_begin, entry_column, row_track, samples, cand_begin, order;
+    std::vector<double> entry_log_eta, cand_log_w;
+    std::vector<std::pair<int, int>> cand_pairs;
+    AssociationTable table;
+    GibbsWorkspace gibbs;
+  };
+  static Workspace& workspace() {
+    static thread_local Workspace ws;
+    return ws;
+  }
+  static void push(Workspace& ws, int column, double log_eta) {
+    ws.entry_column.push_back(column);
+    ws.entry_log_eta.push_back(log_eta);
+  }
+
+  static double kl_divergence(const State& m0, const Covariance& S0, const State& m1, const Covariance& S1) {
+    const Eigen::LLT<Covariance> l1(S1);
+    const Eigen::LLT<Covariance> l0(S0);
+    if (l1.info() != Eigen::Success || l0.info() != Eigen::Success)
+      return std::numeric_limits<double>::infinity();
+    const Tangent d = Motion::local(m1, m0);
+    double log_det1 = 0.0, log_det0 = 0.0;
+    for (int i = 0; i < kDim; ++i) {
+      log_det1 += 2.0 * std::log(l1.matrixLLT()(i, i));
+      log_det0 += 2.0 * std::log(l0.matrixLLT()(i, i));
+    }
+    return 0.5 * ((l1.solve(S0)).trace() - kDim + d.dot(l1.solve(d)) + log_det1 - log_det0);
+  }
+
+  /// Partitioned, relinearised KF update of (x̄, P̄) with the detections [begin, end) of one hypothesis.
+  void fastslam_gaussian(const GlmbMap<Meas>& map, const MeasurementSet& Z, const State& x_pred,
+                         const Covariance& P_pred, int begin, int end, Workspace& ws, State& mean_out,
+                         Covariance& cov_out) const {
+    State lin = x_pred;
+    Covariance lin_cov = P_pred;
+    if (begin == end) {
+      mean_out = x_pred;
+      cov_out = P_pred;
+      return;
+    }
+    for (int l = 0; l < config_.ipl_iterations; ++l) {
+      State mu = x_pred;
+      Covariance Sig = P_pred;
+      for (int k = begin; k < end; ++k) {
+        const auto& tr = map.tracks[ws.cand_pairs[k].first];
+        const Measurement& z = Z[ws.cand_pairs[k].second];
+        typename Meas::PoseJacobian A;
+        typename Meas::LandmarkJacobian Hm;
+        const Measurement zhat = model_.linearize(lin, tr.mean, &A, &Hm);
+        const typename Meas::MeasurementCovariance Omega = Hm * tr.cov * Hm.transpose() + model_.noise();
+        const Measurement nu = model_.residual(z, zhat) - A * Motion::local(mu, lin);
+        const typename Meas::MeasurementCovariance S = A * Sig * A.transpose() + Omega;
+        const Eigen::LLT<typename Meas::MeasurementCovariance> llt(S);
+        if (llt.info() != Eigen::Success) continue;
+        const Eigen::Matrix<double, kDim, Meas::kMeasDim> K = llt.solve(A * Sig).transpose();
+        mu = Motion::retract(mu, K * nu);
+        Sig -= K * S * K.transpose();
+        symmetrize(Sig);
+      }
+      if (Eigen::LLT<Covariance>(Sig).info() != Eigen::Success) break;  // keep the previous iterate
+      const bool converged = l > 0 && kl_divergence(lin, lin_cov, mu, Sig) < config_.ipl_tolerance;
+      lin = mu;
+      lin_cov = Sig;
+      if (converged) break;
+    }
+    mean_out = lin;
+    cov_out = lin_cov;
+  }
+
+  Motion motion_;
+  Meas model_;
+  RbpfConfig config_;
+};
+
+}  // namespace glmbslam::backend

@@ -1,0 +1,33 @@
+#pragma once
+// Settings of the Rao–Blackwellised particle filter of δ-GLMB-SLAM (paper 000 Sec. 3; digest 0.4–0.5).
+#include <cstdint>
+#include <string>
+
+#include "backend/glmb/glmb_config.hpp"
+#include "core/config_node.hpp"
+
+namespace glmbslam::backend {
+
+struct RbpfConfig {
+  int particles = 10;                    ///< N_s
+  std::uint64_t seed = 0;                ///< all randomness derives from (seed, step, particle)
+  std::string proposal = "optimal";      ///< "prior" (δ-GLMB-SLAM 1.0) or "optimal" (2.0, digest 0.5)
+  std::string weighting = "importance";  ///< "importance": w·Ĝ(x)·f(x|x⁻,u)/q(x); "paper": Eq. 33 as printed
+  std::string resampling = "always";  ///< "always" (every step, paper 000) or "ess" (when ESS < threshold)
+  double ess_threshold = 0.5;         ///< fraction of N_s below which "ess" resampling triggers
+  // optimal-kernel proposal
+  bool proposal_mixture = false;      ///< sample from the Gaussian mixture instead of its moment match
+  int proposal_hypotheses = 3;        ///< map hypotheses used (the highest-weight ones) ...
+  double proposal_min_weight = 1e-3;  ///< ... with at least this weight (the best one is always used)
+  int proposal_gibbs_samples = 50;    ///< Gibbs sweeps per map hypothesis for the association hypotheses
+  int proposal_max_components = 10;   ///< association hypotheses kept (highest weight first)
+  int ipl_iterations = 5;             ///< relinearisations of the FastSLAM-2.0 Gaussian (003 Algorithm 1)
+  double ipl_tolerance = 1e-3;        ///< KL divergence at which the relinearisation stops
+  double proposal_gate_threshold = 0.0;  ///< χ² gate with the pose-marginal S' (≤ 0: use glmb.gate_threshold)
+  GlmbConfig glmb;                       ///< map update settings (YAML child "glmb")
+};
+
+/// Keys = member names; the map settings in the child mapping "glmb". Unknown keys are errors.
+void load_rbpf_config(ConfigNode node, RbpfConfig& config);
+
+}  // namespace glmbslam::backend

@@ -1,0 +1,161 @@
+// Particle filter: systematic resampling, determinism across thread counts, degenerate input, and a small
+// closed-loop simulation in which the filter must track the pose far better than odometry alone.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+#include "backend/models/range_bearing_model.hpp"
+#include "backend/models/unicycle_motion.hpp"
+#include "backend/rbpf/glmb_slam.hpp"
+#include "backend/rbpf/resampling.hpp"
+#include "core/parallel.hpp"
+
+namespace glmbslam::backend {
+namespace {
+
+using Slam = GlmbSlam<UnicycleMotion, RangeBearingModel>;
+
+TEST(SystematicResampling, PreservesWeightsInExpectation) {
+  std::vector<double> w = {0.05, 0.3, 0.0, 0.15, 0.5};
+  std::vector<double> log_w;
+  for (double x : w) log_w.push_back(std::log(x));
+  const int runs = 20000;
+  std::vector<double> mean_count(w.size(), 0.0);
+  for (int r = 0; r < runs; ++r) {
+    RandomStream rng(11, r);
+    const auto idx = systematic_resample(log_w, rng);
+    ASSERT_EQ(idx.size(), w.size());
+    std::vector<int> count(w.size(), 0);
+    for (auto i : idx) ++count[i];
+    for (std::size_t i = 0; i < w.size(); ++i) {
+      const double expected = w[i] * static_cast<double>(w.size());
+      EXPECT_GE(count[i], std::floor(expected) - 1e-9);  // systematic: ⌊N w⌋ ≤ count ≤ ⌈N w⌉
+      EXPECT_LE(count[i], std::ceil(expected) + 1e-9);
+      mean_count[i] += count[i] / static_cast<double>(runs);
+    }
+  }
+  for (std::size_t i = 0; i < w.size(); ++i) EXPECT_NEAR(mean_count[i], w[i] * w.size(), 0.02);
+}
+
+/// A small world: landmarks on a ring, the robot drives circles inside it.
+struct SmallWorld {
+  UnicycleMotionConfig motion_config;
+  RangeBearingConfig sensor;
+  std::vector<Eigen::Vector2d> landmarks;
+  std::vector<Pose2> truth;
+  std::vector<Eigen::Vector2d> odometry;
+  std::vector<Slam::MeasurementSet> scans;
+
+  explicit SmallWorld(int steps, std::uint64_t seed) {
+    motion_config.dt = 1.0;
+    motion_config.sigma_v = 0.1;
+    motion_config.sigma_omega = 2.0 * M_PI / 180.0;
+    sensor.sigma_range = 0.1;
+    sensor.sigma_bearing = 1.0 * M_PI / 180.0;
+    sensor.max_range = 7.0;
+    sensor.half_fov = M_PI;
+    sensor.p_detect_inside = 0.9;
+    sensor.clutter_rate = 2.0;
+    for (int i = 0; i < 12; ++i) {
+      const double a = 2 * M_PI * i / 12.0;
+      landmarks.emplace_back(11.0 * std::cos(a), 11.0 * std::sin(a));
+    }
+    const UnicycleMotion motion(motion_config);
+    const RangeBearingModel model(sensor);
+    RandomStream rng(seed, 99);
+    Pose2 x(8.0, 0.0, M_PI / 2);
+    truth.push_back(x);
+    const Eigen::Vector2d u(1.0, 1.0 / 8.0);
+    for (int k = 1; k <= steps; ++k) {
+      x = motion.predict(x, u);
+      truth.push_back(x);
+      odometry.emplace_back(u(0) + motion_config.sigma_v * rng.normal(),
+                            u(1) + motion_config.sigma_omega * rng.normal());
+      Slam::MeasurementSet z;
+      for (const auto& m : landmarks) {
+        if (!model.in_field_of_view(x, m) || rng.uniform() > sensor.p_detect_inside) continue;
+        Eigen::Vector2d zm = model.predict(x, m);
+        zm(0) += sensor.sigma_range * rng.normal();
+        zm(1) = wrap_angle(zm(1) + sensor.sigma_bearing * rng.normal());
+        z.push_back(zm);
+      }
+      const int clutter = rng.poisson(sensor.clutter_rate);
+      for (int c = 0; c < clutter; ++c)
+        z.emplace_back(rng.uniform(sensor.min_range, sensor.max_range), rng.uniform(-M_PI, M_PI));
+      scans.push_back(z);
+    }
+  }
+};
+
+RbpfConfig small_config(const std::string& proposal) {
+  RbpfConfig c;
+  c.particles = 10;
+  c.seed = 5;
+  c.proposal = proposal;
+  return c;
+}
+
+Slam::PoseList run(const SmallWorld& world, const RbpfConfig& config, int steps) {
+  Slam slam(UnicycleMotion(world.motion_config), RangeBearingModel(world.sensor), config, world.truth[0]);
+  Slam::PoseList poses{world.truth[0]};
+  for (int k = 0; k < steps; ++k) {
+    slam.step(world.odometry[k], world.scans[k]);
+    poses.push_back(slam.pose());
+  }
+  return poses;
+}
+
+TEST(GlmbSlam, SameSeedSameOutputWhateverTheThreadCount) {
+  const SmallWorld world(30, 1);
+  const int threads = thread_count();
+  for (const std::string proposal : {"prior", "optimal"}) {
+    set_thread_count(1);
+    const auto a = run(world, small_config(proposal), 30);
+    set_thread_count(2);
+    const auto b = run(world, small_config(proposal), 30);
+    ASSERT_EQ(a.size(), b.size());
+    for (std::size_t k = 0; k < a.size(); ++k) EXPECT_EQ(a[k], b[k]) << proposal << " step " << k;
+  }
+  set_thread_count(threads);
+}
+
+TEST(GlmbSlam, RejectsNonFiniteInputWithoutChangingState) {
+  const SmallWorld world(2, 2);
+  Slam slam(UnicycleMotion(world.motion_config), RangeBearingModel(world.sensor), small_config("optimal"),
+            world.truth[0]);
+  Slam::MeasurementSet z = world.scans[0];
+  z.emplace_back(std::nan(""), 0.0);
+  EXPECT_THROW(slam.step(world.odometry[0], z), InputError);
+  EXPECT_THROW(slam.step(Eigen::Vector2d(std::nan(""), 0.0), world.scans[0]), InputError);
+  EXPECT_EQ(slam.steps(), 0);
+  slam.step(world.odometry[0], Slam::MeasurementSet{});  // empty scan is fine
+  EXPECT_EQ(slam.steps(), 1);
+}
+
+double position_rmse(const SmallWorld& world, const Slam::PoseList& est) {
+  double s = 0.0;
+  for (std::size_t k = 0; k < est.size(); ++k) s += (est[k] - world.truth[k]).head<2>().squaredNorm();
+  return std::sqrt(s / static_cast<double>(est.size()));
+}
+
+TEST(GlmbSlam, TracksThePoseInASmallSimulation) {
+  const int steps = 100;
+  const SmallWorld world(steps, 3);
+  // dead reckoning with the noisy odometry
+  const UnicycleMotion motion(world.motion_config);
+  Slam::PoseList odo{world.truth[0]};
+  for (int k = 0; k < steps; ++k) odo.push_back(motion.predict(odo.back(), world.odometry[k]));
+  const double odo_rmse = position_rmse(world, odo);
+  for (const std::string proposal : {"prior", "optimal"}) {
+    const auto est = run(world, small_config(proposal), steps);
+    const double rmse = position_rmse(world, est);
+    std::printf("%s: position RMSE %.3f m (odometry %.3f m), final error %.3f m\n", proposal.c_str(), rmse,
+                odo_rmse, (est.back() - world.truth.back()).head<2>().norm());
+    EXPECT_LT(rmse, 0.5 * odo_rmse) << proposal;
+    EXPECT_LT(rmse, 1.0) << proposal;
+  }
+}
+
+}  // namespace
+}  // namespace glmbslam::backend
