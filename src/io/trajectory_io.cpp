@@ -11,7 +11,9 @@
 namespace glmbslam::io {
 namespace {
 
-std::string where(const std::string& path, std::size_t line) { return path + ":" + std::to_string(line); }
+std::string where(const std::string& path, std::size_t line) {
+  return path + ":" + std::to_string(line);
+}
 
 /// Splits a line into numbers; returns false if a token is not a number.
 bool parse_numbers(const std::string& line, std::vector<double>& out) {
@@ -27,7 +29,9 @@ bool parse_numbers(const std::string& line, std::vector<double>& out) {
   return true;
 }
 
-bool is_blank(const std::string& line) { return line.find_first_not_of(" \t\r") == std::string::npos; }
+bool is_blank(const std::string& line) {
+  return line.find_first_not_of(" \t\r") == std::string::npos;
+}
 
 }  // namespace
 
@@ -47,7 +51,8 @@ PoseList read_kitti_poses(const std::string& path) {
   while (std::getline(in, line)) {
     ++n;
     if (is_blank(line)) continue;
-    if (!parse_numbers(line, v)) throw InputError(where(path, n), "pose line contains a token that is not a number");
+    if (!parse_numbers(line, v))
+      throw InputError(where(path, n), "pose line contains a token that is not a number");
     if (v.size() != 12) {
       throw InputError(where(path, n), "pose line has " + std::to_string(v.size()) + " numbers, expected 12");
     }
@@ -59,7 +64,8 @@ PoseList read_kitti_poses(const std::string& path) {
       for (int c = 0; c < 4; ++c) T.matrix()(r, c) = v[static_cast<std::size_t>(4 * r + c)];
     }
     const Eigen::Matrix3d R = T.linear();
-    if ((R.transpose() * R - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() > 1e-3 || R.determinant() < 0.0) {
+    if ((R.transpose() * R - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() > 1e-3 ||
+        R.determinant() < 0.0) {
       throw InputError(where(path, n), "rotation block is not a rotation matrix");
     }
     poses.push_back(T);
@@ -79,7 +85,8 @@ Trajectory read_tum_trajectory(const std::string& path) {
   while (std::getline(in, line)) {
     ++n;
     if (is_blank(line) || line[line.find_first_not_of(" \t")] == '#') continue;
-    if (!parse_numbers(line, v)) throw InputError(where(path, n), "line contains a token that is not a number");
+    if (!parse_numbers(line, v))
+      throw InputError(where(path, n), "line contains a token that is not a number");
     if (v.size() != 8) {
       throw InputError(where(path, n), "TUM line has " + std::to_string(v.size()) + " numbers, expected 8");
     }
@@ -110,7 +117,21 @@ Trajectory read_trajectory(const std::string& path, TrajectoryFormat format) {
   return t;
 }
 
+namespace {
+
+/// Writers refuse what the readers would reject, so every file written can be read back.
+void check_finite_poses(const std::string& path, const PoseList& poses) {
+  for (std::size_t i = 0; i < poses.size(); ++i) {
+    if (!poses[i].matrix().allFinite()) {
+      throw InputError(path, "cannot write trajectory: pose " + std::to_string(i) + " is not finite");
+    }
+  }
+}
+
+}  // namespace
+
 void write_kitti_poses(const std::string& path, const PoseList& poses) {
+  check_finite_poses(path, poses);
   write_text_file_atomically(path, [&](std::ostream& out) {
     char buf[64];
     for (const auto& T : poses) {
@@ -124,18 +145,30 @@ void write_kitti_poses(const std::string& path, const PoseList& poses) {
   });
 }
 
-void write_tum_trajectory(const std::string& path, const PoseList& poses, const std::vector<double>& timestamps) {
+void write_tum_trajectory(const std::string& path, const PoseList& poses,
+                          const std::vector<double>& timestamps) {
   if (timestamps.size() != poses.size()) {
     throw InputError(path, "cannot write TUM trajectory: " + std::to_string(poses.size()) + " poses but " +
                                std::to_string(timestamps.size()) + " timestamps");
+  }
+  check_finite_poses(path, poses);
+  for (std::size_t i = 0; i < timestamps.size(); ++i) {
+    if (!std::isfinite(timestamps[i])) {
+      throw InputError(path,
+                       "cannot write TUM trajectory: timestamp " + std::to_string(i) + " is not finite");
+    }
+    if (i > 0 && timestamps[i] <= timestamps[i - 1]) {
+      throw InputError(path, "cannot write TUM trajectory: timestamps are not strictly increasing at pose " +
+                                 std::to_string(i));
+    }
   }
   write_text_file_atomically(path, [&](std::ostream& out) {
     char buf[256];
     for (std::size_t i = 0; i < poses.size(); ++i) {
       const Eigen::Quaterniond q(poses[i].linear());
       const Eigen::Vector3d t = poses[i].translation();
-      std::snprintf(buf, sizeof buf, "%.9f %.9g %.9g %.9g %.9g %.9g %.9g %.9g\n", timestamps[i], t.x(), t.y(), t.z(), q.x(),
-                    q.y(), q.z(), q.w());
+      std::snprintf(buf, sizeof buf, "%.9f %.9g %.9g %.9g %.9g %.9g %.9g %.9g\n", timestamps[i], t.x(), t.y(),
+                    t.z(), q.x(), q.y(), q.z(), q.w());
       out << buf;
     }
   });
