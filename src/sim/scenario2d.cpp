@@ -22,6 +22,19 @@ Eigen::Vector3d unicycle_step(const Eigen::Vector3d& pose, const Eigen::Vector2d
                          wrap_angle(th + dt * control(1)));
 }
 
+Eigen::Vector3d steering_step(const Eigen::Vector3d& pose, const Eigen::Vector2d& control, double dt,
+                              double wheel_base) {
+  const double a = pose(2) + control(1);
+  return Eigen::Vector3d(pose(0) + dt * control(0) * std::cos(a), pose(1) + dt * control(0) * std::sin(a),
+                         wrap_angle(pose(2) + dt * control(0) * std::sin(control(1)) / wheel_base));
+}
+
+Eigen::Vector3d motion_step(const Scenario2D& s, const Eigen::Vector3d& pose,
+                            const Eigen::Vector2d& control) {
+  return s.motion == MotionKind::kSteering ? steering_step(pose, control, s.dt, s.wheel_base)
+                                           : unicycle_step(pose, control, s.dt);
+}
+
 Eigen::Vector2d range_bearing(const Eigen::Vector3d& pose, const Eigen::Vector2d& landmark) {
   const double dx = landmark(0) - pose(0);
   const double dy = landmark(1) - pose(1);

@@ -5,9 +5,13 @@
 //
 // Conventions (identical to the phdslam3 benchmark data, checked against it to 1e-12 in the tests):
 //  - pose x_k = (x, y, θ) [m, m, rad], θ wrapped to (−π, π];
-//  - control u_k = (v, ω) [m/s, rad/s] drives pose k−1 to pose k (u_0 is unused and zero):
-//      x_k = x_{k−1} + dt·v·cos θ_{k−1},  y_k = y_{k−1} + dt·v·sin θ_{k−1},  θ_k = wrap(θ_{k−1} + dt·ω)
-//    (unicycle, Euler step with the heading of the previous pose);
+//  - control u_k drives pose k−1 to pose k (u_0 is unused and zero), with one of two motion models:
+//    MotionKind::kUnicycleEuler, u = (v, ω) [m/s, rad/s] (the phdslam3 data):
+//      x_k = x_{k−1} + dt·v·cos θ_{k−1},  y_k = y_{k−1} + dt·v·sin θ_{k−1},  θ_k = wrap(θ_{k−1} + dt·ω);
+//    MotionKind::kSteering, u = (v, G) [m/s, rad], wheel base L (paper 000's simulator family, the same as
+//    backend/models/steering_motion.hpp):
+//      x_k = x_{k−1} + dt·v·cos(θ_{k−1} + G),  y_k = y_{k−1} + dt·v·sin(θ_{k−1} + G),
+//      θ_k = wrap(θ_{k−1} + dt·v·sin(G)/L);
 //  - measurement z = (r, b): r = ‖m − p_k‖, b = wrap(atan2(m_y − y_k, m_x − x_k) − θ_k);
 //    measurement set Z_k is taken at pose k, for every k = 0..K−1 (Z_0 at the initial pose);
 //  - a landmark is in the field of view when min_range ≤ r ≤ max_range and |b| ≤ max_bearing;
@@ -38,8 +42,12 @@ struct SensorParameters2D {
   bool in_field_of_view(double range, double bearing) const;
 };
 
+enum class MotionKind { kUnicycleEuler, kSteering };
+
 struct Scenario2D {
   std::string name;
+  MotionKind motion = MotionKind::kUnicycleEuler;
+  double wheel_base = 1.0;                     ///< L [m] (kSteering only)
   double dt = 1.0;                             ///< [s]
   std::vector<Eigen::Vector3d> poses;          ///< ground truth (x, y, θ), one per step k = 0..K−1
   std::vector<Eigen::Vector2d> landmarks;      ///< ground-truth landmark positions
@@ -48,15 +56,21 @@ struct Scenario2D {
   std::vector<std::vector<Eigen::Vector2d>> measurements;  ///< Z_k: (r, b) per step
   /// Source of each measurement: landmark index, or −1 for clutter (for data-association statistics).
   std::vector<std::vector<int>> measurement_sources;
-  Eigen::Matrix2d control_noise = Eigen::Matrix2d::Zero();  ///< Q on (v, ω) [m²/s², rad²/s²]
+  Eigen::Matrix2d control_noise = Eigen::Matrix2d::Zero();  ///< Q on the control (v, ω) or (v, G)
   SensorParameters2D sensor;
 
   std::size_t steps() const { return poses.size(); }
   const Eigen::Vector3d& initial_pose() const { return poses.front(); }
 };
 
-/// The unicycle step of the convention above.
+/// The unicycle (Euler) step of the convention above.
 Eigen::Vector3d unicycle_step(const Eigen::Vector3d& pose, const Eigen::Vector2d& control, double dt);
+/// The steering step of the convention above.
+Eigen::Vector3d steering_step(const Eigen::Vector3d& pose, const Eigen::Vector2d& control, double dt,
+                              double wheel_base);
+/// The scenario's own motion step.
+Eigen::Vector3d motion_step(const Scenario2D& scenario, const Eigen::Vector3d& pose,
+                            const Eigen::Vector2d& control);
 
 /// Noise-free range-bearing measurement of landmark m from pose x.
 Eigen::Vector2d range_bearing(const Eigen::Vector3d& pose, const Eigen::Vector2d& landmark);

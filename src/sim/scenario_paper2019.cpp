@@ -10,20 +10,24 @@ namespace glmbslam::sim {
 
 namespace {
 
-constexpr int kStraightLongSteps = 34;   // 8.5 m at 1 m/s, dt 0.25
-constexpr int kStraightShortSteps = 16;  // 4 m
-constexpr int kTurnSteps = 6;            // 90° in 6 steps
+constexpr int kStraightLongSteps = 26;   // 6.5 m at 1 m/s, dt 0.25
+constexpr int kStraightShortSteps = 12;  // 3 m
+constexpr int kTurnSteps = 12;           // 90° in 12 steps
 constexpr int kRevisitSteps = 27;        // re-driven part of the first straight after the lap
 constexpr int kLandmarkCount = 23;
 
-/// Noise-free (v, ω) for step k ≥ 1 of the path.
+/// Noise-free (v, G) for step k ≥ 1 of the path.
 std::vector<Eigen::Vector2d> path_controls(const Paper2019Options& o) {
-  const double turn_rate = (M_PI / 2.0) / (kTurnSteps * o.dt);
+  const double per_step = (M_PI / 2.0) / kTurnSteps;  // heading change per turn step
+  const double sin_g = per_step * o.wheel_base / (o.speed * o.dt);
+  if (sin_g >= 1.0)
+    throw std::invalid_argument("paper2019: wheel base too long for the turns at this speed/dt");
+  const double steer = std::asin(sin_g);
   std::vector<Eigen::Vector2d> lap;
   const int straights[4] = {kStraightLongSteps, kStraightShortSteps, kStraightLongSteps, kStraightShortSteps};
   for (int side = 0; side < 4; ++side) {
     for (int i = 0; i < straights[side]; ++i) lap.emplace_back(o.speed, 0.0);
-    for (int i = 0; i < kTurnSteps; ++i) lap.emplace_back(o.speed, turn_rate);
+    for (int i = 0; i < kTurnSteps; ++i) lap.emplace_back(o.speed, steer);
   }
   std::vector<Eigen::Vector2d> controls;
   controls.emplace_back(0.0, 0.0);  // u_0 unused
@@ -42,6 +46,10 @@ Scenario2D make_paper2019_scenario(const Paper2019Options& o) {
   Scenario2D s;
   s.name = "paper2019";
   s.dt = o.dt;
+  s.motion = MotionKind::kSteering;
+  s.wheel_base = o.wheel_base;
+  s.motion = MotionKind::kSteering;
+  s.wheel_base = o.wheel_base;
   s.sensor.min_range = 0.0;
   s.sensor.max_range = o.max_range;
   s.sensor.max_bearing = M_PI;
@@ -49,7 +57,7 @@ Scenario2D make_paper2019_scenario(const Paper2019Options& o) {
   s.sensor.clutter_rate = o.clutter_rate;
   const double sigma_b = o.sigma_bearing_deg * M_PI / 180.0;
   s.sensor.measurement_noise = Eigen::Vector2d(o.sigma_range * o.sigma_range, sigma_b * sigma_b).asDiagonal();
-  const double sigma_w = o.sigma_turn_rate_deg * M_PI / 180.0;
+  const double sigma_w = o.sigma_steer_deg * M_PI / 180.0;
   s.control_noise = Eigen::Vector2d(o.sigma_speed * o.sigma_speed, sigma_w * sigma_w).asDiagonal();
 
   // Ground truth.
@@ -58,7 +66,7 @@ Scenario2D make_paper2019_scenario(const Paper2019Options& o) {
   s.poses.reserve(steps);
   s.poses.emplace_back(0.0, 0.0, 0.0);
   for (std::size_t k = 1; k < steps; ++k)
-    s.poses.push_back(unicycle_step(s.poses.back(), s.true_controls[k], o.dt));
+    s.poses.push_back(motion_step(s, s.poses.back(), s.true_controls[k]));
 
   // Landmark layout: evenly along the lap, alternately left/right of the path.
   const int lap_steps = static_cast<int>(steps) - 1 - kRevisitSteps;

@@ -20,6 +20,7 @@ TEST(ScenarioPaper2019, ParametersOfThePaper) {
   EXPECT_NEAR(std::sqrt(s.sensor.measurement_noise(1, 1)), 0.5 * M_PI / 180.0, 1e-12);
   EXPECT_NEAR(std::sqrt(s.control_noise(0, 0)), 0.1, 1e-12);
   EXPECT_NEAR(std::sqrt(s.control_noise(1, 1)), 2.0 * M_PI / 180.0, 1e-12);
+  EXPECT_EQ(s.motion, MotionKind::kSteering);
   EXPECT_NEAR(s.sensor.clutter_intensity(), 5.0 / (3.0 * 2.0 * M_PI), 1e-12);
   // 1 m/s ground-truth speed.
   for (std::size_t k = 1; k < s.steps(); ++k) {
@@ -32,7 +33,7 @@ TEST(ScenarioPaper2019, LoopClosesAndIsRevisitedBetweenSteps125And150) {
   const Scenario2D s = make_paper2019_scenario({});
   // Ground truth follows the unicycle convention exactly.
   for (std::size_t k = 1; k < s.steps(); ++k) {
-    const Eigen::Vector3d p = unicycle_step(s.poses[k - 1], s.true_controls[k], s.dt);
+    const Eigen::Vector3d p = steering_step(s.poses[k - 1], s.true_controls[k], s.dt, s.wheel_base);
     EXPECT_NEAR((p - s.poses[k]).norm(), 0.0, 1e-12);
   }
   // After one lap (124 steps) the robot is back at the start with the start heading.
@@ -109,8 +110,9 @@ TEST(ScenarioPaper2019, OneRealisationPerClutterRate) {
     detections += d1.size();
   }
   const double steps = static_cast<double>(s1.steps());
-  EXPECT_NEAR(static_cast<double>(clutter1) / steps, 1.0, 0.3);
-  EXPECT_NEAR(static_cast<double>(clutter15) / steps, 15.0, 1.0);
+  // Poisson means over the steps, within 5 standard errors (sqrt(λ / steps)).
+  EXPECT_NEAR(static_cast<double>(clutter1) / steps, 1.0, 5.0 * std::sqrt(1.0 / steps));
+  EXPECT_NEAR(static_cast<double>(clutter15) / steps, 15.0, 5.0 * std::sqrt(15.0 / steps));
   // p_D = 0.7: detections / visible landmark-steps.
   std::size_t visible = 0;
   for (const auto& p : s1.poses) visible += visible_landmarks(p, s1.landmarks, s1.sensor).size();
