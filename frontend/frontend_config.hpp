@@ -1,0 +1,68 @@
+#pragma once
+// Settings of the stereo frontend and the visual odometry, with their defaults (KITTI, 1241×376).
+// YAML layout (see config/frontend_defaults.yaml): a `frontend` mapping holding `orb`, `stereo` and `vo`.
+#include "core/config_node.hpp"
+
+namespace glmbslam::frontend {
+
+/// ORB extraction: FAST corners per grid cell on every pyramid level, spread over the image, ORB descriptors.
+struct OrbConfig {
+  int features = 2000;         ///< target number of keypoints per image (all levels)
+  int levels = 8;              ///< pyramid levels
+  double scale_factor = 1.2;   ///< scale between consecutive levels
+  int fast_threshold = 20;     ///< FAST threshold tried first in each cell
+  int min_fast_threshold = 7;  ///< FAST threshold used in cells where the first finds nothing
+  int cell_size = 35;          ///< grid cell size in pixels of each level
+  int edge_threshold = 19;     ///< keypoints closer than this to the border of their level are not detected
+  bool parallel = true;        ///< extract the left and right image concurrently (std::async)
+};
+
+/// Stereo matching along rectified rows.
+struct StereoMatchConfig {
+  double min_depth_m = 1.0;         ///< nearest accepted depth (sets the largest disparity)
+  double max_depth_m = 80.0;        ///< farthest accepted depth (sets the smallest disparity)
+  double row_band_px = 2.0;         ///< row tolerance at level 0; multiplied by scale_factor^octave
+  int max_octave_difference = 1;    ///< left/right keypoints must be on levels at most this far apart
+  int max_hamming = 75;             ///< best descriptor distance must be below this (of 256 bits)
+  double ratio = 0.9;               ///< best < ratio · second best (candidates ≥ 2 px apart); 1 disables
+  int sad_half_window = 5;          ///< SAD patch is (2w+1)² on the keypoint's level
+  int sad_search_radius = 5;        ///< pixels searched left/right of the matched u_R on that level
+  double outlier_sad_factor = 2.1;  ///< reject matches whose SAD exceeds this × the frame's median SAD
+  double pixel_sigma = 1.0;         ///< σ (pixels) of u_L, v, u_R at level 0; × scale_factor^octave above
+};
+
+/// Frame-to-frame stereo visual odometry.
+struct VoConfig {
+  double search_radius_px = 15.0;  ///< guided matching window at level 0 around the predicted projection
+  double wide_search_radius_px =
+      150.0;                    ///< window when the prediction is unreliable (start, after a failure)
+  int max_hamming = 80;         ///< descriptor distance threshold for temporal matches
+  double ratio = 0.9;           ///< best < ratio · second best for temporal matches; 1 disables
+  int min_matches = 20;         ///< fewer guided matches → retry with the wide window, then fall back
+  int min_inliers = 12;         ///< fewer PnP/refinement inliers → constant-velocity fallback
+  int ransac_iterations = 100;  ///< EPnP RANSAC iterations
+  double ransac_reprojection_px = 2.0;  ///< RANSAC inlier threshold (pixels, left image)
+  double ransac_confidence = 0.99;      ///< RANSAC confidence
+  double huber_delta = 2.0;             ///< Huber loss threshold on whitened residual norm (σ units)
+  double chi2_threshold = 7.815;        ///< 3-dof χ² gate (95 %) for outlier rejection between rounds
+  int refine_rounds = 2;                ///< Ceres solve / reject rounds
+  int max_iterations = 10;              ///< Ceres iterations per round
+  bool rematch_after_pnp = true;        ///< redo guided matching with the PnP pose before refinement
+  double repeated_image_mean_abs_diff =
+      0.5;                                  ///< left images closer than this (grey levels) count as repeated
+  double fallback_covariance_scale = 25.0;  ///< fallback Q = scale · last good Q, at least the floor below
+  double fallback_sigma_translation_m = 0.5;  ///< floor of the fallback standard deviation, translation
+  double fallback_sigma_rotation_rad = 0.02;  ///< floor of the fallback standard deviation, rotation
+};
+
+struct FrontendConfig {
+  OrbConfig orb;
+  StereoMatchConfig stereo;
+  VoConfig vo;
+};
+
+/// Reads the `frontend` mapping (children `orb`, `stereo`, `vo`; absent keys keep their defaults).
+/// Validates ranges and calls finish() on each mapping, so unknown keys are ConfigErrors.
+FrontendConfig load_frontend_config(ConfigNode& node);
+
+}  // namespace glmbslam::frontend

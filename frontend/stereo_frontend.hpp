@@ -1,0 +1,42 @@
+#pragma once
+// Facade of the stereo frontend: ORB on both images (concurrently), stereo matching and triangulation.
+#include <opencv2/core.hpp>
+
+#include "core/types.hpp"
+#include "frontend/frontend_config.hpp"
+#include "frontend/orb_extractor.hpp"
+#include "frontend/stereo_matcher.hpp"
+
+namespace glmbslam::frontend {
+
+/// Everything the frontend knows about one stereo frame.
+struct StereoFrameFeatures {
+  OrbFeatures left;
+  OrbFeatures right;
+  StereoMeasurementList measurements;    ///< one per accepted stereo match, in left-keypoint order
+  std::vector<int> left_to_measurement;  ///< per left keypoint: index into measurements or −1
+  StereoMatchStats stats;
+  double extract_ms = 0.0;  ///< wall time of the ORB extraction of both images
+  double match_ms = 0.0;    ///< wall time of stereo matching and triangulation
+};
+
+class StereoFrontend {
+ public:
+  StereoFrontend(const StereoCalibration& calibration, const FrontendConfig& config);
+
+  /// Processes a rectified pair. An empty left or right image is treated as a blank image: the frame gets the
+  /// features of the other image (if any) and no stereo measurements, so the VO falls back for that frame.
+  /// Throws InputError("stereo frame", …) if both images are non-empty and differ in size.
+  StereoFrameFeatures process(const cv::Mat& left, const cv::Mat& right) const;
+
+  const StereoCamera& camera() const { return matcher_.camera(); }
+  const OrbExtractor& extractor() const { return left_extractor_; }
+
+ private:
+  FrontendConfig config_;
+  OrbExtractor left_extractor_;
+  OrbExtractor right_extractor_;
+  StereoMatcher matcher_;
+};
+
+}  // namespace glmbslam::frontend

@@ -1,0 +1,45 @@
+#pragma once
+// Stereo matching of ORB keypoints along rectified rows, with sub-pixel refinement of u_R and triangulation.
+#include <vector>
+
+#include "frontend/frontend_config.hpp"
+#include "frontend/orb_extractor.hpp"
+#include "frontend/stereo_measurement.hpp"
+#include "frontend/stereo_projection.hpp"
+
+namespace glmbslam::frontend {
+
+/// Per-frame matching statistics (for logs and metrics).
+struct StereoMatchStats {
+  int candidates = 0;         ///< left keypoints with a descriptor match under the thresholds
+  int rejected_subpixel = 0;  ///< refinement failed (border, minimum at the search edge, bad parabola)
+  int rejected_outlier = 0;   ///< SAD above outlier_sad_factor × median
+  int accepted = 0;
+  double median_sad = 0.0;
+};
+
+class StereoMatcher {
+ public:
+  /// `scales` are scale_factor^level of the extractor that produced the features.
+  StereoMatcher(const StereoCamera& camera, const StereoMatchConfig& config, std::vector<double> scales);
+
+  /// Matches left to right keypoints. For each left keypoint, the candidates are the right keypoints whose
+  /// row lies within row_band_px · scale^octave, whose octave differs by at most max_octave_difference, and
+  /// whose disparity u_L − u_R lies in [f·b/max_depth, f·b/min_depth]. The best Hamming distance must be
+  /// under max_hamming and pass the ratio test; u_R is then refined by a SAD search on the keypoint's pyramid
+  /// level with a parabola fit; each right keypoint is used once (lowest distance wins); matches whose SAD
+  /// exceeds outlier_sad_factor × the frame's median SAD are dropped. `left_to_measurement` (optional)
+  /// receives, for every left keypoint, the index of its measurement or −1.
+  StereoMeasurementList match(const OrbFeatures& left, const OrbFeatures& right,
+                              std::vector<int>* left_to_measurement = nullptr,
+                              StereoMatchStats* stats = nullptr) const;
+
+  const StereoCamera& camera() const { return camera_; }
+
+ private:
+  StereoCamera camera_;
+  StereoMatchConfig config_;
+  std::vector<double> scales_;
+};
+
+}  // namespace glmbslam::frontend

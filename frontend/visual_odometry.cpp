@@ -1,0 +1,293 @@
+#include "frontend/visual_odometry.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <spdlog/spdlog.h>
+#include <opencv2/calib3d.hpp>
+#include <opencv2/core/eigen.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "core/stopwatch.hpp"
+#include "frontend/stereo_pose_refiner.hpp"
+
+namespace glmbslam::frontend {
+
+std::string to_string(VoStatus status) {
+  switch (status) {
+    case VoStatus::kFirstFrame:
+      return "first_frame";
+    case VoStatus::kTracked:
+      return "tracked";
+    case VoStatus::kNoFeatures:
+      return "no_features";
+    case VoStatus::kRepeatedImage:
+      return "repeated_image";
+    case VoStatus::kTooFewMatches:
+      return "too_few_matches";
+    case VoStatus::kTooFewInliers:
+      return "too_few_inliers";
+    case VoStatus::kMissingImage:
+      return "missing_image";
+  }
+  return "unknown";
+}
+
+StereoVisualOdometry::StereoVisualOdometry(const StereoCamera& camera, const VoConfig& config,
+                                           std::vector<double> scales)
+    : camera_(camera), config_(config), scales_(std::move(scales)) {}
+
+VoEstimate StereoVisualOdometry::fallback(VoStatus status) {
+  VoEstimate e;
+  e.status = status;
+  e.relative_pose = velocity_;
+  Matrix6d floor = Matrix6d::Zero();
+  const double st = config_.fallback_sigma_translation_m, sr = config_.fallback_sigma_rotation_rad;
+  floor.diagonal() << st * st, st * st, st * st, sr * sr, sr * sr, sr * sr;
+  e.covariance = config_.fallback_covariance_scale * last_covariance_ + floor;
+  T_ref_prev_ = T_ref_prev_ * e.relative_pose;
+  return e;
+}
+
+VoEstimate StereoVisualOdometry::skip_frame(VoStatus reason) {
+  Stopwatch sw;
+  ++frames_;
+  VoEstimate e = frames_ == 1 ? VoEstimate{} : fallback(reason);
+  if (frames_ == 1) e.status = reason;
+  spdlog::warn("vo: frame {}: {} → constant-velocity fallback", frames_ - 1, to_string(reason));
+  e.ms = sw.elapsed_ms();
+  return e;
+}
+
+void StereoVisualOdometry::set_reference(const StereoFrameFeatures& frame) {
+  ref_.measurements = frame.measurements;
+  has_reference_ = true;
+  T_ref_prev_ = Pose3::Identity();
+}
+
+bool StereoVisualOdometry::repeated_image(const StereoFrameFeatures& frame) {
+  if (frame.left.pyramid.empty()) return false;
+  const cv::Mat& top = frame.left.pyramid.back();
+  bool repeated = false;
+  if (!previous_thumbnail_.empty() && previous_thumbnail_.size() == top.size()) {
+    const double mad = cv::norm(top, previous_thumbnail_, cv::NORM_L1) / static_cast<double>(top.total());
+    repeated = mad < config_.repeated_image_mean_abs_diff;
+  }
+  top.copyTo(previous_thumbnail_);
+  return repeated;
+}
+
+std::vector<StereoVisualOdometry::Match> StereoVisualOdometry::guided_match(const StereoFrameFeatures& frame,
+                                                                            const Pose3& T_ref_cur,
+                                                                            double radius) const {
+  const auto& kps = frame.left.keypoints;
+  std::vector<Match> matches;
+  if (kps.empty() || frame.left.pyramid.empty()) return matches;
+  // Grid of the current left keypoints (cells of `cell` pixels at level 0).
+  const int cell = 32;
+  const int width = frame.left.pyramid[0].cols, height = frame.left.pyramid[0].rows;
+  const int gc = width / cell + 1, gr = height / cell + 1;
+  std::vector<std::vector<int>> grid(static_cast<std::size_t>(gc * gr));
+  for (int j = 0; j < static_cast<int>(kps.size()); ++j) {
+    const int cx = std::clamp(static_cast<int>(kps[j].pt.x) / cell, 0, gc - 1);
+    const int cy = std::clamp(static_cast<int>(kps[j].pt.y) / cell, 0, gr - 1);
+    grid[static_cast<std::size_t>(cy * gc + cx)].push_back(j);
+  }
+  const Pose3 T_cur_ref = T_ref_cur.inverse();
+  std::vector<int> owner(kps.size(), -1);  // current keypoint → index into matches
+  matches.reserve(ref_.measurements.size());
+  for (int i = 0; i < static_cast<int>(ref_.measurements.size()); ++i) {
+    const StereoMeasurement& m = ref_.measurements[static_cast<std::size_t>(i)];
+    const Eigen::Vector3d pc = T_cur_ref * m.point;
+    if (pc.z() <= 0.1) continue;
+    const Eigen::Vector3d z = camera_.project(pc);
+    if (z.x() < 0 || z.y() < 0 || z.x() >= width || z.y() >= height) continue;
+    const double r = radius * scales_[static_cast<std::size_t>(m.octave)];
+    const int x0 = std::max(0, static_cast<int>((z.x() - r) / cell)),
+              x1 = std::min(gc - 1, static_cast<int>((z.x() + r) / cell));
+    const int y0 = std::max(0, static_cast<int>((z.y() - r) / cell)),
+              y1 = std::min(gr - 1, static_cast<int>((z.y() + r) / cell));
+    int best = std::numeric_limits<int>::max(), second = std::numeric_limits<int>::max(), best_j = -1;
+    for (int cy = y0; cy <= y1; ++cy) {
+      for (int cx = x0; cx <= x1; ++cx) {
+        for (int j : grid[static_cast<std::size_t>(cy * gc + cx)]) {
+          const cv::KeyPoint& k = kps[static_cast<std::size_t>(j)];
+          if (std::abs(k.octave - m.octave) > 1) continue;
+          const double du = k.pt.x - z.x(), dv = k.pt.y - z.y();
+          if (du * du + dv * dv > r * r) continue;
+          const int d = hamming_distance(m.descriptor.data(), frame.left.descriptors.ptr<uchar>(j));
+          if (d < best) {
+            second = best;
+            best = d;
+            best_j = j;
+          } else if (d < second) {
+            second = d;
+          }
+        }
+      }
+    }
+    if (best_j < 0 || best >= config_.max_hamming) continue;
+    if (config_.ratio < 1.0 && second != std::numeric_limits<int>::max() && best >= config_.ratio * second)
+      continue;
+    int& o = owner[static_cast<std::size_t>(best_j)];
+    if (o >= 0) {
+      if (matches[static_cast<std::size_t>(o)].distance <= best) continue;
+      matches[static_cast<std::size_t>(o)] = {i, best_j, best};
+    } else {
+      o = static_cast<int>(matches.size());
+      matches.push_back({i, best_j, best});
+    }
+  }
+  return matches;
+}
+
+VoEstimate StereoVisualOdometry::track(const StereoFrameFeatures& frame) {
+  Stopwatch sw;
+  ++frames_;
+  const std::size_t k = frames_ - 1;
+  auto finish = [&](VoEstimate e) {
+    e.ms = sw.elapsed_ms();
+    return e;
+  };
+  const bool repeated = repeated_image(frame);
+  const int min_measurements = std::max(config_.min_inliers, 8);
+  if (!has_reference_) {
+    if (static_cast<int>(frame.measurements.size()) >= min_measurements) set_reference(frame);
+    VoEstimate e;
+    e.status = VoStatus::kFirstFrame;
+    if (k > 0) {
+      e = fallback(VoStatus::kNoFeatures);
+      spdlog::warn("vo: frame {}: no usable reference yet → constant-velocity fallback", k);
+    }
+    return finish(e);
+  }
+  if (repeated) {
+    spdlog::warn("vo: frame {}: left image repeats the previous one → constant-velocity fallback", k);
+    return finish(fallback(VoStatus::kRepeatedImage));
+  }
+  if (static_cast<int>(frame.measurements.size()) < min_measurements) {
+    spdlog::warn("vo: frame {}: {} stereo measurements → constant-velocity fallback", k,
+                 frame.measurements.size());
+    return finish(fallback(VoStatus::kNoFeatures));
+  }
+
+  // Guided matching with the constant-velocity prediction; wide window if it fails or the velocity is
+  // unknown.
+  const Pose3 T_pred = T_ref_prev_ * velocity_;
+  std::vector<Match> matches;
+  if (velocity_known_) matches = guided_match(frame, T_pred, config_.search_radius_px);
+  if (static_cast<int>(matches.size()) < config_.min_matches) {
+    matches = guided_match(frame, T_pred, config_.wide_search_radius_px);
+  }
+  if (static_cast<int>(matches.size()) < config_.min_matches) {
+    spdlog::warn("vo: frame {}: {} temporal matches → constant-velocity fallback", k, matches.size());
+    VoEstimate e = fallback(VoStatus::kTooFewMatches);
+    e.matches = static_cast<int>(matches.size());
+    set_reference(frame);
+    return finish(e);
+  }
+
+  // EPnP + RANSAC on (reference 3D point, current left pixel).
+  std::vector<cv::Point3f> object;
+  std::vector<cv::Point2f> image;
+  object.reserve(matches.size());
+  image.reserve(matches.size());
+  for (const Match& m : matches) {
+    const Eigen::Vector3d& X = ref_.measurements[static_cast<std::size_t>(m.ref)].point;
+    object.emplace_back(static_cast<float>(X.x()), static_cast<float>(X.y()), static_cast<float>(X.z()));
+    image.push_back(frame.left.keypoints[static_cast<std::size_t>(m.cur)].pt);
+  }
+  const cv::Matx33d K(camera_.fx, 0, camera_.cx, 0, camera_.fy, camera_.cy, 0, 0, 1);
+  cv::Mat rvec, tvec;
+  std::vector<int> pnp_inliers;
+  bool ok = false;
+  try {
+    ok = cv::solvePnPRansac(object, image, K, cv::noArray(), rvec, tvec, false, config_.ransac_iterations,
+                            static_cast<float>(config_.ransac_reprojection_px), config_.ransac_confidence,
+                            pnp_inliers, cv::SOLVEPNP_EPNP);
+  } catch (const cv::Exception& ex) {
+    spdlog::debug("vo: frame {}: solvePnPRansac failed: {}", k, ex.what());
+    ok = false;
+  }
+  if (!ok || static_cast<int>(pnp_inliers.size()) < config_.min_inliers) {
+    spdlog::warn("vo: frame {}: PnP kept {} of {} matches → constant-velocity fallback", k,
+                 pnp_inliers.size(), matches.size());
+    VoEstimate e = fallback(VoStatus::kTooFewInliers);
+    e.matches = static_cast<int>(matches.size());
+    set_reference(frame);
+    return finish(e);
+  }
+  cv::Matx33d Rcv;
+  cv::Rodrigues(rvec, Rcv);
+  Pose3 T_cur_ref = Pose3::Identity();
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) T_cur_ref.linear()(r, c) = Rcv(r, c);
+    T_cur_ref.translation()(r) = tvec.at<double>(r);
+  }
+  Pose3 T_ref_cur = T_cur_ref.inverse();
+
+  std::vector<char> use(matches.size(), 0);
+  if (config_.rematch_after_pnp) {
+    matches = guided_match(frame, T_ref_cur, std::max(4.0, config_.search_radius_px * 0.5));
+    use.assign(matches.size(), 1);
+  } else {
+    for (int i : pnp_inliers) use[static_cast<std::size_t>(i)] = 1;
+  }
+
+  // Two-view stereo bundle adjustment.
+  std::vector<TrackedPoint> tracked;
+  tracked.reserve(matches.size());
+  for (std::size_t i = 0; i < matches.size(); ++i) {
+    if (!use[i]) continue;
+    const StereoMeasurement& r = ref_.measurements[static_cast<std::size_t>(matches[i].ref)];
+    const cv::KeyPoint& kp = frame.left.keypoints[static_cast<std::size_t>(matches[i].cur)];
+    TrackedPoint t;
+    t.point_ref = r.point;
+    t.z_ref = r.z;
+    t.sigma_ref = r.pixel_sigma;
+    const int mi = frame.left_to_measurement.empty()
+                       ? -1
+                       : frame.left_to_measurement[static_cast<std::size_t>(matches[i].cur)];
+    if (mi >= 0) {
+      const StereoMeasurement& c = frame.measurements[static_cast<std::size_t>(mi)];
+      t.z_cur = c.z;
+      t.sigma_cur = c.pixel_sigma;
+      t.cur_stereo = true;
+    } else {
+      t.z_cur = Eigen::Vector3d(kp.pt.x, kp.pt.y, 0.0);
+      t.sigma_cur = r.pixel_sigma / scales_[static_cast<std::size_t>(r.octave)] *
+                    scales_[static_cast<std::size_t>(kp.octave)];
+      t.cur_stereo = false;
+    }
+    tracked.push_back(t);
+  }
+  PoseRefinementOptions opt;
+  opt.huber_delta = config_.huber_delta;
+  opt.chi2_threshold = config_.chi2_threshold;
+  opt.rounds = config_.refine_rounds;
+  opt.max_iterations = config_.max_iterations;
+  const PoseRefinementResult res = refine_stereo_pose(camera_, tracked, T_ref_cur, opt);
+  if (!res.success || res.inliers < config_.min_inliers) {
+    spdlog::warn("vo: frame {}: refinement kept {} of {} points → constant-velocity fallback", k, res.inliers,
+                 tracked.size());
+    VoEstimate e = fallback(VoStatus::kTooFewInliers);
+    e.matches = static_cast<int>(matches.size());
+    set_reference(frame);
+    return finish(e);
+  }
+
+  VoEstimate e;
+  e.status = VoStatus::kTracked;
+  e.relative_pose = T_ref_prev_.inverse() * res.T_ref_cur;
+  e.covariance = res.covariance;
+  e.matches = static_cast<int>(matches.size());
+  e.inliers = res.inliers;
+  velocity_ = e.relative_pose;
+  velocity_known_ = true;
+  last_covariance_ = e.covariance;
+  set_reference(frame);
+  return finish(e);
+}
+
+}  // namespace glmbslam::frontend

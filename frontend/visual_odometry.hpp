@@ -1,0 +1,85 @@
+#pragma once
+// Frame-to-frame stereo visual odometry: the previous good frame's triangulated points are matched into the
+// current left image (descriptor search around their projection with the constant-velocity prediction), an
+// EPnP + RANSAC pose seeds a two-view stereo bundle adjustment (stereo_pose_refiner.hpp) that gives the
+// relative pose and its covariance. Hard frames (no features, repeated image, too few matches or inliers,
+// missing images) fall back to the constant-velocity prediction with an inflated covariance; every frame
+// gets exactly one estimate.
+#include <string>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "core/lie.hpp"
+#include "frontend/frontend_config.hpp"
+#include "frontend/stereo_frontend.hpp"
+#include "frontend/stereo_projection.hpp"
+
+namespace glmbslam::frontend {
+
+enum class VoStatus {
+  kFirstFrame,     ///< first frame: identity, zero covariance
+  kTracked,        ///< pose from PnP + refinement
+  kNoFeatures,     ///< fallback: blank/empty image or too few stereo measurements
+  kRepeatedImage,  ///< fallback: the left image repeats the previous one
+  kTooFewMatches,  ///< fallback: guided matching found too few correspondences
+  kTooFewInliers,  ///< fallback: PnP or refinement kept too few inliers
+  kMissingImage,   ///< fallback: the frame could not be loaded (see skip_frame)
+};
+std::string to_string(VoStatus status);
+
+/// Output for frame k.
+struct VoEstimate {
+  Pose3 relative_pose = Pose3::Identity();  ///< u_k = T_{k−1,k}: camera k expressed in camera k−1
+  Matrix6d covariance = Matrix6d::Zero();  ///< Q_k of ξ in u_true = u_k · Exp(ξ), ξ = (ρ, φ) (core/lie.hpp)
+  int matches = 0;                         ///< temporal correspondences found
+  int inliers = 0;                         ///< correspondences kept by the refinement
+  VoStatus status = VoStatus::kFirstFrame;
+  double ms = 0.0;  ///< wall time of track()
+  bool fallback() const { return status != VoStatus::kTracked && status != VoStatus::kFirstFrame; }
+};
+
+class StereoVisualOdometry {
+ public:
+  /// `scales` are the pyramid scales of the extractor (scale_factor^level).
+  StereoVisualOdometry(const StereoCamera& camera, const VoConfig& config, std::vector<double> scales);
+
+  /// Estimates the motion from the previous frame to this one.
+  VoEstimate track(const StereoFrameFeatures& frame);
+
+  /// A frame without usable images: constant-velocity fallback with status `reason`.
+  VoEstimate skip_frame(VoStatus reason = VoStatus::kMissingImage);
+
+  /// Number of frames seen so far.
+  std::size_t frames() const { return frames_; }
+
+ private:
+  struct Reference {
+    StereoMeasurementList measurements;
+  };
+  struct Match {
+    int ref;  ///< index into reference measurements
+    int cur;  ///< index into current left keypoints
+    int distance;
+  };
+
+  std::vector<Match> guided_match(const StereoFrameFeatures& frame, const Pose3& T_ref_cur,
+                                  double radius) const;
+  VoEstimate fallback(VoStatus status);
+  void set_reference(const StereoFrameFeatures& frame);
+  bool repeated_image(const StereoFrameFeatures& frame);
+
+  StereoCamera camera_;
+  VoConfig config_;
+  std::vector<double> scales_;
+  std::size_t frames_ = 0;
+  bool has_reference_ = false;
+  Reference ref_;
+  Pose3 T_ref_prev_ = Pose3::Identity();  ///< previous output frame expressed in the reference frame
+  Pose3 velocity_ = Pose3::Identity();    ///< last relative motion (constant-velocity model)
+  Matrix6d last_covariance_ = Matrix6d::Zero();
+  bool velocity_known_ = false;
+  cv::Mat previous_thumbnail_;  ///< small copy of the previous left image (repeat detection)
+};
+
+}  // namespace glmbslam::frontend
