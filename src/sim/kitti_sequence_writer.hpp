@@ -46,8 +46,8 @@ struct SequenceRenderOptions {
   std::uint64_t seed = 1;
   std::string sequence = "00";  ///< folder name XX (letters, digits, '_' or '-')
   int movers = 0;
-  bool depth = false;        ///< also write depth_0/
-  bool images = true;        ///< false: only calib.txt, times.txt and the poses (dry run, no image folders)
+  bool depth = false;  ///< also write depth_0/
+  bool images = true;  ///< false: only calib.txt, times.txt and the poses (dry run, no image folders)
   PhotometricOptions photometric;
   double frame_rate = 10.0;  ///< Hz (times.txt and the movers' timing)
 };

@@ -38,6 +38,13 @@ inline float clamp01(float x) {
   return std::min(1.0f, std::max(0.0f, x));
 }
 
+/// floor() as an integer without a library call (baseline x86-64 has no SSE4.1 rounding instruction).
+/// Valid for |x| < 2^31.
+inline std::int32_t fast_floor(float x) {
+  const auto i = static_cast<std::int32_t>(x);
+  return i - static_cast<std::int32_t>(x < static_cast<float>(i));
+}
+
 /// Weight of a pattern layer of characteristic size `scale` for footprint `fp`: 0 below 4 pixels, 1 above 8.
 inline float layer_weight(float scale, float fp) {
   return clamp01(scale / (4.0f * fp) - 1.0f);
@@ -45,12 +52,10 @@ inline float layer_weight(float scale, float fp) {
 
 /// Smooth value noise in [0, 1] with lattice spacing 1.
 inline float value_noise(float x, float y, std::uint32_t seed) {
-  const float fx = std::floor(x);
-  const float fy = std::floor(y);
-  const auto ix = static_cast<std::int32_t>(fx);
-  const auto iy = static_cast<std::int32_t>(fy);
-  float tx = x - fx;
-  float ty = y - fy;
+  const std::int32_t ix = fast_floor(x);
+  const std::int32_t iy = fast_floor(y);
+  float tx = x - static_cast<float>(ix);
+  float ty = y - static_cast<float>(iy);
   tx = tx * tx * (3.0f - 2.0f * tx);
   ty = ty * ty * (3.0f - 2.0f * ty);
   const float v00 = unit(hash_cell(ix, iy, seed));
@@ -65,13 +70,14 @@ inline float value_noise(float x, float y, std::uint32_t seed) {
 /// One rectangle per square cell of size `cell`, random extent and signed intensity in [−1, 1], on a zero
 /// background; edges anti-aliased over the footprint.
 inline float rect_layer(float a, float b, float cell, std::uint32_t seed, float fp) {
-  const float ga = a / cell;
-  const float gb = b / cell;
-  const float fa = std::floor(ga);
-  const float fb = std::floor(gb);
-  const float la = (ga - fa) * cell;
-  const float lb = (gb - fb) * cell;
-  const std::uint32_t h = hash_cell(static_cast<std::int32_t>(fa), static_cast<std::int32_t>(fb), seed);
+  const float inv_cell = 1.0f / cell;
+  const float ga = a * inv_cell;
+  const float gb = b * inv_cell;
+  const std::int32_t ia = fast_floor(ga);
+  const std::int32_t ib = fast_floor(gb);
+  const float la = (ga - static_cast<float>(ia)) * cell;
+  const float lb = (gb - static_cast<float>(ib)) * cell;
+  const std::uint32_t h = hash_cell(ia, ib, seed);
   const float x0 = (0.04f + 0.36f * static_cast<float>(h & 0xFFU) * (1.0f / 255.0f)) * cell;
   const float x1 = (0.60f + 0.36f * static_cast<float>((h >> 8) & 0xFFU) * (1.0f / 255.0f)) * cell;
   const float y0 = (0.04f + 0.36f * static_cast<float>((h >> 16) & 0xFFU) * (1.0f / 255.0f)) * cell;
@@ -119,12 +125,11 @@ inline float albedo(const Surface& s, float a, float b, float fp) {
       if (ww > 0.0f) {
         const float ga = a / cw;
         const float gb = b / ch;
-        const float fa = std::floor(ga);
-        const float fb = std::floor(gb);
-        const float la = (ga - fa) * cw;
-        const float lb = (gb - fb) * ch;
-        const std::uint32_t h =
-            hash_cell(static_cast<std::int32_t>(fa), static_cast<std::int32_t>(fb), s.seed + 7U);
+        const std::int32_t ia = fast_floor(ga);
+        const std::int32_t ib = fast_floor(gb);
+        const float la = (ga - static_cast<float>(ia)) * cw;
+        const float lb = (gb - static_cast<float>(ib)) * ch;
+        const std::uint32_t h = hash_cell(ia, ib, s.seed + 7U);
         const float inv_fp = 1.0f / fp;
         const float cx = clamp01(std::min(la - 0.22f * cw, 0.78f * cw - la) * inv_fp + 0.5f);
         const float cy = clamp01(std::min(lb - 0.25f * ch, 0.80f * ch - lb) * inv_fp + 0.5f);
@@ -143,7 +148,7 @@ inline float albedo(const Surface& s, float a, float b, float fp) {
       const float w = layer_weight(p * 0.5f, fp);
       if (w > 0.0f) {
         const float t = b / p;
-        const float fr = t - std::floor(t);
+        const float fr = t - static_cast<float>(fast_floor(t));
         const float sd = fr < 0.5f ? std::min(fr, 0.5f - fr) * p : -std::min(fr - 0.5f, 1.0f - fr) * p;
         const float cov = clamp01(sd / fp + 0.5f);
         v += c * w * (2.0f * cov - 1.0f);

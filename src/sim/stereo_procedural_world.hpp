@@ -2,14 +2,17 @@
 // A street world generated procedurally and deterministically around a trajectory (KITTI camera frames:
 // x right, y down, z forward; the world's vertical is its y axis).
 //
-// The trajectory is resampled every 2 m of horizontal arc length into "stations". Everything is a pure function
-// of (seed, trajectory), generated lazily for the surroundings of each camera position, so the memory used per
-// frame does not grow with the sequence length (only the station list, 2 numbers per metre of path, is kept):
+// The trajectory is resampled every 2 m of horizontal arc length into "stations". Everything is a pure
+// function of (seed, trajectory), generated lazily for the surroundings of each camera position, so the
+// memory used per frame does not grow with the sequence length (only the station list, 2 numbers per metre of
+// path, is kept):
 // - ground: 16 m tiles (two triangles each) whose corner heights follow the trajectory (camera height below
 //   the nearby stations, smoothly interpolated, so slopes are followed);
-// - at each station and side, with fixed probabilities: a building (façade with windows) 5–14 m from the path,
-//   a wall/box, a parked car, a pole or a tree; nothing is placed within 3 m of any station (the road corridor
-//   stays free) and stations that revisit an already populated place spawn nothing new (loops look the same);
+// - at each station and side, with fixed probabilities: a building (façade with windows) 5–14 m from the
+// path,
+//   a wall/box, a parked car, a pole or a tree; nothing is placed within 3 m of any station (the road
+//   corridor stays free) and stations that revisit an already populated place spawn nothing new (loops look
+//   the same);
 // - far towers on a 100 m grid, at least 60 m from the path (little parallax);
 // - optional movers: boxes driving along the road next to the camera's lane (time dependent).
 #include <cstdint>
@@ -61,7 +64,8 @@ class ProceduralWorld : public StereoWorld {
   template <typename F>
   void for_each_station_near(double x, double z, double radius, F&& f) const;
   bool is_revisit(std::size_t k) const;
-  bool footprint_clear(double cx, double cz, double fx, double fz, double half_length, double half_width) const;
+  bool footprint_clear(double cx, double cz, double fx, double fz, double half_length,
+                       double half_width) const;
   void append_station_objects(std::size_t k, SurfaceList& out) const;
   void append_far_towers(const Eigen::Vector3d& camera, SurfaceList& out) const;
   void append_ground(const Eigen::Vector3d& camera, SurfaceList& out) const;

@@ -233,7 +233,7 @@ void StereoRenderer::shade(const Pose3& T_world_cam, std::uint64_t frame_id, int
         noise_state ^= noise_state << 5;
         out += noise_sigma * noise_table_[noise_state >> 16];
       }
-      img[col] = static_cast<std::uint8_t>(std::clamp(std::lround(out), 0L, 255L));
+      img[col] = static_cast<std::uint8_t>(std::clamp(out, 0.0f, 255.0f) + 0.5f);
     }
   }
 }
