@@ -14,20 +14,27 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-using RowMajorMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+}  // namespace
 
-/// Solves the n×m problem with n ≤ m and all entries finite; returns col_of_row (0-based, every row
+/// Solves the n×m problem held in work_ (n ≤ m, all entries finite); fills col_of_row_ (0-based, all
 /// assigned).
-void solve_square_or_wide(const RowMajorMatrix& a, std::vector<int>& col_of_row) {
+void LinearAssignmentSolver::solve_square_or_wide() {
+  const RowMajorMatrix& a = work_;
   const int n = static_cast<int>(a.rows());
   const int m = static_cast<int>(a.cols());
   // 1-based arrays; column 0 is the virtual start column of each augmentation.
-  std::vector<double> u(static_cast<size_t>(n) + 1, 0.0);
-  std::vector<double> v(static_cast<size_t>(m) + 1, 0.0);
-  std::vector<double> minv(static_cast<size_t>(m) + 1);
-  std::vector<int> p(static_cast<size_t>(m) + 1, 0);  // p[j] = row (1-based) matched to column j, 0 = free
-  std::vector<int> way(static_cast<size_t>(m) + 1, 0);
-  std::vector<char> used(static_cast<size_t>(m) + 1);
+  u_.assign(static_cast<size_t>(n) + 1, 0.0);
+  v_.assign(static_cast<size_t>(m) + 1, 0.0);
+  minv_.resize(static_cast<size_t>(m) + 1);
+  p_.assign(static_cast<size_t>(m) + 1, 0);  // p[j] = row (1-based) matched to column j, 0 = free
+  way_.assign(static_cast<size_t>(m) + 1, 0);
+  used_.resize(static_cast<size_t>(m) + 1);
+  std::vector<double>& u = u_;
+  std::vector<double>& v = v_;
+  std::vector<double>& minv = minv_;
+  std::vector<int>& p = p_;
+  std::vector<int>& way = way_;
+  std::vector<char>& used = used_;
   for (int i = 1; i <= n; ++i) {
     p[0] = i;
     int j0 = 0;
@@ -72,18 +79,21 @@ void solve_square_or_wide(const RowMajorMatrix& a, std::vector<int>& col_of_row)
       j0 = j1;
     } while (j0 != 0);
   }
-  col_of_row.assign(static_cast<size_t>(n), -1);
+  col_of_row_.assign(static_cast<size_t>(n), -1);
   for (int j = 1; j <= m; ++j) {
-    if (p[j] != 0) col_of_row[static_cast<size_t>(p[j] - 1)] = j - 1;
+    if (p[j] != 0) col_of_row_[static_cast<size_t>(p[j] - 1)] = j - 1;
   }
 }
 
-}  // namespace
-
 AssignmentResult solve_linear_assignment(const Eigen::MatrixXd& cost) {
+  LinearAssignmentSolver solver;
+  return solver.solve(cost);
+}
+
+const AssignmentResult& LinearAssignmentSolver::solve(const Eigen::MatrixXd& cost) {
   const int rows = static_cast<int>(cost.rows());
   const int cols = static_cast<int>(cost.cols());
-  AssignmentResult result;
+  AssignmentResult& result = result_;
   result.row_to_col.assign(static_cast<size_t>(rows), -1);
   result.cost = 0.0;
   result.feasible = true;
@@ -112,7 +122,8 @@ AssignmentResult solve_linear_assignment(const Eigen::MatrixXd& cost) {
   const bool transposed = rows > cols;
   const int n = transposed ? cols : rows;
   const int m = transposed ? rows : cols;
-  RowMajorMatrix a(n, m);
+  RowMajorMatrix& a = work_;
+  a.resize(n, m);
   if (transposed) {
     a = cost.transpose();
   } else {
@@ -131,8 +142,8 @@ AssignmentResult solve_linear_assignment(const Eigen::MatrixXd& cost) {
     }
   }
 
-  std::vector<int> col_of_row;
-  solve_square_or_wide(a, col_of_row);
+  solve_square_or_wide();
+  const std::vector<int>& col_of_row = col_of_row_;
 
   double total = 0.0;
   for (int i = 0; i < n; ++i) {

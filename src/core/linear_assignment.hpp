@@ -30,4 +30,21 @@ struct AssignmentResult {
 /// feasible = true.
 AssignmentResult solve_linear_assignment(const Eigen::MatrixXd& cost);
 
+/// The same solver keeping its work buffers between calls (no allocation once they have grown), for hot
+/// loops. Not thread-safe: use one instance per thread.
+class LinearAssignmentSolver {
+ public:
+  /// As solve_linear_assignment; the result stays valid until the next call.
+  const AssignmentResult& solve(const Eigen::MatrixXd& cost);
+
+ private:
+  using RowMajorMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+  void solve_square_or_wide();
+  RowMajorMatrix work_;
+  std::vector<double> u_, v_, minv_;
+  std::vector<int> p_, way_, col_of_row_;
+  std::vector<char> used_;
+  AssignmentResult result_;
+};
+
 }  // namespace glmbslam

@@ -187,3 +187,29 @@ TEST(LinearAssignment, LargerRandomAgreesWithOptimalityCertificate) {
 
 }  // namespace
 }  // namespace glmbslam
+
+namespace glmbslam {
+namespace {
+
+TEST(LinearAssignment, ReusableSolverMatchesFreshSolves) {
+  // One solver across problems of changing shape (buffers shrink and grow) gives the same answers.
+  RandomStream rng(12);
+  LinearAssignmentSolver solver;
+  for (int trial = 0; trial < 200; ++trial) {
+    const int n = 1 + static_cast<int>(rng.index(9));
+    const int m = 1 + static_cast<int>(rng.index(9));
+    Eigen::MatrixXd c(n, m);
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < m; ++j) c(i, j) = rng.uniform() < 0.3 ? kInf : rng.uniform(-1.0, 1.0);
+    const AssignmentResult fresh = solve_linear_assignment(c);
+    const AssignmentResult& reused = solver.solve(c);
+    EXPECT_EQ(reused.feasible, fresh.feasible);
+    EXPECT_EQ(reused.cost, fresh.cost);
+    EXPECT_EQ(reused.row_to_col, fresh.row_to_col);
+    const Brute b = brute_force(c);
+    EXPECT_NEAR(check_valid(c, reused).second, b.best_cost, 1e-9);
+  }
+}
+
+}  // namespace
+}  // namespace glmbslam
