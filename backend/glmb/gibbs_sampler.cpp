@@ -7,6 +7,31 @@
 #include "core/log_math.hpp"
 
 namespace glmbslam::backend {
+namespace {
+/// xoshiro256+ seeded from the caller's stream: a fast generator for the many categorical draws of one call
+/// (deterministic given the stream's state).
+class FastUniform {
+ public:
+  explicit FastUniform(RandomStream& rng) {
+    std::uint64_t x = rng.engine()();
+    for (auto& v : s_) v = x = splitmix64(x);
+  }
+  double operator()() {
+    const std::uint64_t result = s_[0] + s_[3];
+    const std::uint64_t t = s_[1] << 17;
+    s_[2] ^= s_[0];
+    s_[3] ^= s_[1];
+    s_[1] ^= s_[2];
+    s_[0] ^= s_[3];
+    s_[2] ^= t;
+    s_[3] = (s_[3] << 45) | (s_[3] >> 19);
+    return static_cast<double>(result >> 11) * 0x1.0p-53;
+  }
+
+ private:
+  std::uint64_t s_[4];
+};
+}  // namespace
 
 double AssociationTable::log_weight(const int* gamma) const {
   double s = 0.0;
@@ -56,9 +81,11 @@ int gibbs_sample(const AssociationTable& table, int sweeps, RandomStream& rng, G
     if (start > 0) ws.owner[start] = i;
   }
   samples.insert(samples.end(), ws.current.begin(), ws.current.end());
+  FastUniform uniform(rng);
   for (int s = 0; s < sweeps; ++s) {
     for (int i = 0; i < P; ++i) {
       const int b = table.row_begin(i), e_end = table.row_end(i);
+      if (e_end - b <= 1) continue;  // a single possible value
       double total = 0.0;
       for (int e = b; e < e_end; ++e) {
         const int c = table.column(e);
@@ -66,7 +93,7 @@ int gibbs_sample(const AssociationTable& table, int sweeps, RandomStream& rng, G
         total += locked ? 0.0 : ws.eta[e];
       }
       if (!(total > 0.0)) continue;  // no valid choice: keep the current value
-      double u = rng.uniform() * total;
+      double u = uniform() * total;
       int chosen = ws.current[i];
       for (int e = b; e < e_end; ++e) {
         const int c = table.column(e);
@@ -90,28 +117,30 @@ int unique_solutions(std::vector<int>& samples, int row_count, int count) {
     samples.clear();
     return count > 0 ? 1 : 0;
   }
-  std::vector<int> order(count);
-  std::iota(order.begin(), order.end(), 0);
-  auto less = [&](int a, int b) {
-    return std::lexicographical_compare(
-        samples.begin() + a * row_count, samples.begin() + (a + 1) * row_count,
-        samples.begin() + b * row_count, samples.begin() + (b + 1) * row_count);
-  };
-  auto equal = [&](int a, int b) {
-    return std::equal(samples.begin() + a * row_count, samples.begin() + (a + 1) * row_count,
-                      samples.begin() + b * row_count);
-  };
-  std::sort(order.begin(), order.end(), less);
-  std::vector<int> out;
-  out.reserve(samples.size());
-  int distinct = 0;
+  thread_local std::vector<std::pair<std::uint64_t, int>> keyed;
+  thread_local std::vector<int> out;
+  keyed.clear();
   for (int k = 0; k < count; ++k) {
-    if (k > 0 && equal(order[k], order[k - 1])) continue;
-    out.insert(out.end(), samples.begin() + order[k] * row_count,
-               samples.begin() + (order[k] + 1) * row_count);
+    std::uint64_t h = 0x9e3779b97f4a7c15ULL;
+    const int* g = samples.data() + static_cast<std::size_t>(k) * row_count;
+    for (int i = 0; i < row_count; ++i) h = splitmix64(h ^ static_cast<std::uint32_t>(g[i] + 2));
+    keyed.emplace_back(h, k);
+  }
+  std::sort(keyed.begin(), keyed.end());
+  auto row = [&](int k) { return samples.begin() + static_cast<std::size_t>(k) * row_count; };
+  out.clear();
+  int distinct = 0;
+  std::size_t group_start = 0;
+  for (std::size_t n = 0; n < keyed.size(); ++n) {
+    if (n == 0 || keyed[n].first != keyed[n - 1].first) group_start = n;
+    bool duplicate = false;
+    for (std::size_t m = group_start; m < n && !duplicate; ++m)
+      duplicate = std::equal(row(keyed[m].second), row(keyed[m].second) + row_count, row(keyed[n].second));
+    if (duplicate) continue;
+    out.insert(out.end(), row(keyed[n].second), row(keyed[n].second) + row_count);
     ++distinct;
   }
-  samples.swap(out);
+  samples.assign(out.begin(), out.end());
   return distinct;
 }
 

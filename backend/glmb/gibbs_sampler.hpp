@@ -68,8 +68,8 @@ struct GibbsWorkspace {
 int gibbs_sample(const AssociationTable& table, int sweeps, RandomStream& rng, GibbsWorkspace& ws,
                  std::vector<int>& samples);
 
-/// Sorts the solutions (each `row_count` ints, stored contiguously) and removes duplicates in place;
-/// returns the number of distinct solutions.
+/// Removes duplicate solutions (each `row_count` ints, stored contiguously) in place, in an order that
+/// depends only on the solutions; returns the number of distinct solutions.
 int unique_solutions(std::vector<int>& samples, int row_count, int count);
 
 }  // namespace glmbslam::backend

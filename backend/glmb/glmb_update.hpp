@@ -162,11 +162,28 @@ class GlmbUpdater {
       ws.birth_prior_id[b] = n_old + static_cast<int>(ws.extra.size());
       ws.extra.push_back(TrackType{bc.label, bc.mean, bc.cov});
     }
+    // A birth that gates with no measurement can only be "not born" or "born and missed"; the second has a
+    // relative weight of about r_B (1 − p_D) (below the pruning threshold for the paper's r_B), so such
+    // births are marginalised out of the sampler: every child gets the factor η(−1) + η(0) and the birth is
+    // dropped.
+    ws.birth_in_sampler.assign(n_birth, 1);
+    double log_birth_factor = 0.0;
     for (int b = 0; b < n_birth; ++b) {
       const auto& bc = prior.births[b];
       const double log_r = bc.log_existence;
       const double log_1mr = log_r < 0.0 ? std::log(-std::expm1(log_r)) : kLogZero;
+      const int first = static_cast<int>(ws.entry_column.size());
       add_source(bc.label, bc.mean, bc.cov, log_r, log_1mr, ws.birth_prior_id[b], true);
+      bool detectable = false;
+      for (int e = first; e < static_cast<int>(ws.entry_column.size()); ++e)
+        detectable |= ws.entry_column[e] > 0;
+      if (!detectable) {
+        ws.birth_in_sampler[b] = 0;
+        double f = kLogZero;
+        for (int e = first; e < static_cast<int>(ws.entry_column.size()); ++e)
+          f = log_add(f, ws.entry_log_eta[e]);
+        log_birth_factor += f;
+      }
     }
     ws.source_begin.push_back(static_cast<int>(ws.entry_column.size()));
 
@@ -180,7 +197,8 @@ class GlmbUpdater {
       ws.row_source.clear();
       for (std::uint32_t t : h.tracks)
         if (ws.source_of_track[t] >= 0) ws.row_source.push_back(ws.source_of_track[t]);
-      for (int b = 0; b < n_birth; ++b) ws.row_source.push_back(num_active + b);
+      for (int b = 0; b < n_birth; ++b)
+        if (ws.birth_in_sampler[b]) ws.row_source.push_back(num_active + b);
       ws.table.reset(M);
       for (int s : ws.row_source) {
         for (int e = ws.source_begin[s]; e < ws.source_begin[s + 1]; ++e)
@@ -197,7 +215,7 @@ class GlmbUpdater {
       const int distinct = unique_solutions(ws.samples, rows, count);
       for (int c = 0; c < distinct; ++c) {
         const int* gamma = ws.samples.data() + static_cast<std::size_t>(c) * rows;
-        double log_w = h.log_weight;
+        double log_w = h.log_weight + log_birth_factor;
         ws.child_begin.push_back(static_cast<int>(ws.child_ids.size()));
         for (std::uint32_t t : h.tracks)
           if (ws.source_of_track[t] < 0) ws.child_ids.push_back(t);  // inactive: copied through
@@ -321,7 +339,7 @@ class GlmbUpdater {
     std::vector<char> active;
     std::vector<int> source_of_track, source_begin, entry_column, entry_id, birth_prior_id, row_source;
     std::vector<double> entry_log_eta;
-    std::vector<char> explained;
+    std::vector<char> explained, birth_in_sampler;
     std::vector<TrackType, Eigen::aligned_allocator<TrackType>> extra;
     AssociationTable table;
     GibbsWorkspace gibbs;
