@@ -12,6 +12,7 @@
 // log Σ W (over every association hypothesis found) is Eq. 33's marginal, used by the "paper" weighting.
 #include <algorithm>
 #include <cmath>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Cholesky>
@@ -61,7 +62,9 @@ class OptimalProposal {
     const double gate =
         config_.proposal_gate_threshold > 0.0 ? config_.proposal_gate_threshold : config_.glmb.gate_threshold;
     // active tracks, with a margin for the pose uncertainty
-    const double pos_sigma = std::sqrt(std::max(0.0, P_pred.template topLeftCorner<2, 2>().trace()));
+    // (the position part of the tangent comes first: (x, y) for 2D poses, ρ for SE(3))
+    constexpr int kPos = decltype(Meas::position(std::declval<State>()))::RowsAtCompileTime;
+    const double pos_sigma = std::sqrt(std::max(0.0, P_pred.template topLeftCorner<kPos, kPos>().trace()));
     map.find_active(model_, x_pred, config_.glmb.fov_margin + 3.0 * pos_sigma, ws.active);
     // rows per active track (no births)
     ws.source_of_track.assign(map.tracks.size(), -1);
