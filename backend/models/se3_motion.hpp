@@ -25,6 +25,7 @@ struct Se3MotionConfig {
 struct RelativePoseControl {
   Pose3 delta = Pose3::Identity();
   Matrix6d covariance = Matrix6d::Identity() * 1e-4;
+  bool allFinite() const { return delta.matrix().allFinite() && covariance.allFinite(); }
   EIGEN_MAKE_ALIGNED_OPERATOR_NEW
 };
 

@@ -1,13 +1,77 @@
-// Placeholder: replaced by the issue that implements `glmbslam run`.
-#include <stdexcept>
+// `glmbslam run DATASET`: SLAM on a dataset folder whose type is auto-detected (KITTI odometry sequence,
+// KITTI raw drive, Victoria Park).
+#include <spdlog/spdlog.h>
 
 #include "app/commands.hpp"
+#include "app/run_options.hpp"
+#include "core/error.hpp"
 
 namespace glmbslam::app {
 
+void parse_frame_range(const std::string& text, std::size_t& first, std::size_t& last) {
+  const auto colon = text.find(':');
+  if (colon == std::string::npos) throw ConfigError("--frames must be A:B (B exclusive), got '" + text + "'");
+  auto parse = [&](const std::string& s, std::size_t fallback) -> std::size_t {
+    if (s.empty()) return fallback;
+    std::size_t used = 0;
+    long long v = -1;
+    try {
+      v = std::stoll(s, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used != s.size() || v < 0)
+      throw ConfigError("--frames must be A:B with non-negative integers, got '" + text + "'");
+    return static_cast<std::size_t>(v);
+  };
+  first = parse(text.substr(0, colon), 0);
+  last = parse(text.substr(colon + 1), 0);
+  if (last != 0 && last <= first) throw ConfigError("--frames A:B needs B > A, got '" + text + "'");
+}
+
 void register_run_command(CLI::App& app) {
-  auto* cmd = app.add_subcommand("run", "(not yet available)");
-  cmd->callback([] { throw std::runtime_error("glmbslam run is not available in this build yet"); });
+  auto options = std::make_shared<RunOptions>();
+  auto format = std::make_shared<std::string>("auto");
+  auto frames = std::make_shared<std::string>();
+  auto particles = std::make_shared<int>(0);
+  auto seed = std::make_shared<long long>(-1);
+  auto algorithm = std::make_shared<std::string>();
+  auto* cmd = app.add_subcommand("run",
+                                 "Run SLAM on a dataset folder (KITTI odometry sequence, KITTI raw drive or "
+                                 "Victoria Park), writing trajectory, map, metrics and plots");
+  cmd->add_option(
+         "dataset", options->dataset,
+         "dataset folder: KITTI odometry sequences/XX, KITTI raw DATE/DATE_drive_NNNN_sync, or the Victoria "
+         "Park folder")
+      ->required();
+  cmd->add_option("--config", options->config_file,
+                  "YAML config (default: built-in defaults; see config/*.yaml for every key)");
+  cmd->add_option("--out", options->out_dir, "output folder")->capture_default_str();
+  cmd->add_option("--format", *format, "dataset type: auto, kitti, kitti_raw or victoria_park")
+      ->capture_default_str();
+  cmd->add_option("--gt", options->ground_truth,
+                  "ground-truth pose file (KITTI format) overriding the dataset's own");
+  cmd->add_option("--frames", *frames, "frame range A:B (B exclusive; default: all frames)");
+  cmd->add_option("--particles", *particles, "number of particles (overrides rbpf.particles)");
+  cmd->add_option("--seed", *seed, "random seed (overrides rbpf.seed)");
+  cmd->add_option("--algorithm", *algorithm,
+                  "stereo: glmb2 (optimal kernel, default), glmb1 (prior proposal), vo (frontend only); "
+                  "Victoria Park: see its config");
+  cmd->callback([=] {
+    RunOptions o = *options;
+    o.format = io::parse_dataset_format(*format);
+    if (!frames->empty()) parse_frame_range(*frames, o.first_frame, o.last_frame);
+    if (*particles != 0) {
+      if (*particles < 0) throw ConfigError("--particles must be positive");
+      o.particles = *particles;
+    }
+    if (*seed >= 0) o.seed = static_cast<std::uint64_t>(*seed);
+    if (!algorithm->empty()) o.algorithm = *algorithm;
+    const io::DatasetFormat detected =
+        o.format == io::DatasetFormat::kAuto ? io::detect_dataset_format(o.dataset) : o.format;
+    const int code = detected == io::DatasetFormat::kVictoriaPark ? run_victoria_park(o) : run_stereo(o);
+    if (code != 0) throw CLI::RuntimeError(code);
+  });
 }
 
 }  // namespace glmbslam::app

@@ -2,8 +2,8 @@
 #include <cstdio>
 #include <exception>
 
-#include <CLI/CLI.hpp>
 #include <spdlog/spdlog.h>
+#include <CLI/CLI.hpp>
 
 #include "app/commands.hpp"
 #include "core/error.hpp"
@@ -11,8 +11,9 @@
 #include "core/parallel.hpp"
 
 int main(int argc, char** argv) {
-  CLI::App app{"glmbslam: stereo visual SLAM with δ-GLMB-SLAM 2.0 (labelled random-finite-set maps in a "
-               "Rao-Blackwellised particle filter), its stereo frontend, KITTI evaluation and the papers' baselines."};
+  CLI::App app{
+      "glmbslam: stereo visual SLAM with δ-GLMB-SLAM 2.0 (labelled random-finite-set maps in a "
+      "Rao-Blackwellised particle filter), its stereo frontend, KITTI evaluation and the papers' baselines."};
   app.require_subcommand(1);
   std::string log_level = "info";
   int threads = 0;

@@ -44,14 +44,15 @@ class StereoDataset {
   virtual std::string name() const = 0;
 };
 
-/// Detects the format of `path` (a folder): a KITTI odometry sequence folder (with image_0/ image_1/ calib.txt),
-/// a KITTI raw drive folder (with image_00/ image_01/), or a Victoria Park folder (aa3_dr.mat).
+/// Detects the format of `path` (a folder): a KITTI odometry sequence folder (with image_0/ image_1/
+/// calib.txt), a KITTI raw drive folder (with image_00/ image_01/), or a Victoria Park folder (aa3_dr.mat).
 /// Throws InputError naming the path if it matches none.
 DatasetFormat detect_dataset_format(const std::string& path);
 
 /// Opens a stereo dataset. `ground_truth_path` overrides where the ground-truth poses are read from.
 /// Throws InputError for a missing folder, mismatched left/right image counts, bad calibration, etc.
-std::unique_ptr<StereoDataset> open_stereo_dataset(const std::string& path, DatasetFormat format = DatasetFormat::kAuto,
+std::unique_ptr<StereoDataset> open_stereo_dataset(const std::string& path,
+                                                   DatasetFormat format = DatasetFormat::kAuto,
                                                    const std::string& ground_truth_path = "");
 
 }  // namespace glmbslam::io

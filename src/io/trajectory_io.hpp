@@ -33,7 +33,8 @@ Trajectory read_trajectory(const std::string& path, TrajectoryFormat format);
 void write_kitti_poses(const std::string& path, const PoseList& poses);
 
 /// Writes TUM format; `timestamps` must have the same size as `poses`. Atomic.
-void write_tum_trajectory(const std::string& path, const PoseList& poses, const std::vector<double>& timestamps);
+void write_tum_trajectory(const std::string& path, const PoseList& poses,
+                          const std::vector<double>& timestamps);
 
 /// Expresses every pose relative to the first: T_0^{-1} T_i (KITTI poses start at identity).
 PoseList relative_to_first(const PoseList& poses);

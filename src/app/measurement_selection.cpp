@@ -1,0 +1,41 @@
+#include "app/measurement_selection.hpp"
+
+#include <algorithm>
+
+namespace glmbslam::app {
+
+std::vector<int> select_measurements(const frontend::StereoMeasurementList& measurements,
+                                     const SelectionGrid& grid, double min_depth, double max_depth,
+                                     int max_count) {
+  const int cells = grid.columns * grid.rows;
+  std::vector<std::vector<int>> per_cell(static_cast<std::size_t>(cells));
+  for (int i = 0; i < static_cast<int>(measurements.size()); ++i) {
+    const auto& m = measurements[static_cast<std::size_t>(i)];
+    const double depth = m.point.z();
+    if (!(depth >= min_depth && depth <= max_depth) || !m.z.allFinite()) continue;
+    const int cx = std::clamp(static_cast<int>(m.z.x() / grid.width * grid.columns), 0, grid.columns - 1);
+    const int cy = std::clamp(static_cast<int>(m.z.y() / grid.height * grid.rows), 0, grid.rows - 1);
+    per_cell[static_cast<std::size_t>(cy * grid.columns + cx)].push_back(i);
+  }
+  for (auto& cell : per_cell) {
+    std::stable_sort(cell.begin(), cell.end(), [&](int a, int b) {
+      return measurements[static_cast<std::size_t>(a)].response >
+             measurements[static_cast<std::size_t>(b)].response;
+    });
+  }
+  std::vector<int> selected;
+  for (std::size_t round = 0; static_cast<int>(selected.size()) < max_count; ++round) {
+    bool any = false;
+    for (const auto& cell : per_cell) {
+      if (round < cell.size()) {
+        any = true;
+        selected.push_back(cell[round]);
+        if (static_cast<int>(selected.size()) >= max_count) break;
+      }
+    }
+    if (!any) break;
+  }
+  return selected;
+}
+
+}  // namespace glmbslam::app

@@ -1,0 +1,131 @@
+#include "app/run_outputs.hpp"
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+#include <spdlog/spdlog.h>
+#include <nlohmann/json.hpp>
+
+#include "core/atomic_file.hpp"
+#include "core/stopwatch.hpp"
+#include "eval/eval_plots.hpp"
+#include "eval/line_plot.hpp"
+#include "eval/report.hpp"
+#include "io/trajectory_io.hpp"
+
+namespace glmbslam::app {
+namespace {
+
+void write_map_plot(const std::string& path, const RunRecord& r) {
+  eval::LinePlot plot("Map and trajectory (top view)", "x [m]", "z [m]");
+  plot.set_equal_aspect(true);
+  std::vector<double> mx, mz;
+  for (const auto& p : r.map) {
+    mx.push_back(p.position.x());
+    mz.push_back(p.position.z());
+  }
+  plot.add_series(mx, mz, eval::colours::kGrey, "landmarks", eval::SeriesStyle::kMarkers, 1);
+  auto add_path = [&](const PoseList& poses, eval::Rgb colour, const std::string& label) {
+    std::vector<double> x, z;
+    for (const auto& T : poses) {
+      x.push_back(T.translation().x());
+      z.push_back(T.translation().z());
+    }
+    plot.add_series(x, z, colour, label);
+  };
+  if (r.ground_truth) add_path(*r.ground_truth, eval::colours::kBlack, "ground truth");
+  add_path(r.vo_poses, eval::colours::kOrange, "visual odometry");
+  add_path(r.slam_poses, eval::colours::kBlue, "δ-GLMB-SLAM");
+  plot.save_png(path);
+}
+
+}  // namespace
+
+double peak_rss_mib() {
+  std::ifstream in("/proc/self/status");
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.rfind("VmHWM:", 0) == 0) return std::stod(line.substr(6)) / 1024.0;
+  }
+  return 0.0;
+}
+
+void write_run_outputs(const std::string& out_dir, const RunRecord& r, bool plots) {
+  namespace fs = std::filesystem;
+  const fs::path dir(out_dir);
+  ensure_writable_directory(dir);
+  io::write_kitti_poses((dir / "trajectory.txt").string(), r.slam_poses);
+  io::write_kitti_poses((dir / "vo_trajectory.txt").string(), r.vo_poses);
+  io::write_pcd_map((dir / "map.pcd").string(), r.map);
+  write_text_file_atomically(dir / "config_used.yaml", [&](std::ostream& out) { out << r.effective_config; });
+
+  nlohmann::json j;
+  j["dataset"] = r.dataset_name;
+  j["algorithm"] = r.algorithm;
+  j["particles"] = r.particles;
+  j["seed"] = r.seed;
+  j["first_frame"] = r.first_frame;
+  j["frames"] = r.slam_poses.size();
+  std::string table;
+  if (r.ground_truth) {
+    const eval::TrajectoryEvaluation slam = eval::evaluate_trajectory(*r.ground_truth, r.slam_poses);
+    const eval::TrajectoryEvaluation vo = eval::evaluate_trajectory(*r.ground_truth, r.vo_poses);
+    j["slam"] = eval::to_json(slam);
+    j["vo"] = eval::to_json(vo);
+    const double path = slam.path_length_m;
+    auto drift = [&](const PoseList& est) {
+      return path > 0
+                 ? 100.0 * (est.back().translation() - r.ground_truth->back().translation()).norm() / path
+                 : 0.0;
+    };
+    j["slam"]["end_point_drift_percent"] = drift(r.slam_poses);
+    j["vo"]["end_point_drift_percent"] = drift(r.vo_poses);
+    table = "SLAM\n" + eval::format_table(slam) + "\nVO\n" + eval::format_table(vo);
+    if (plots) {
+      eval::write_evaluation_plots((dir / "plots" / "slam").string(), *r.ground_truth, r.slam_poses, slam,
+                                   "δ-GLMB-SLAM");
+      eval::write_evaluation_plots((dir / "plots" / "vo").string(), *r.ground_truth, r.vo_poses, vo,
+                                   "visual odometry");
+    }
+  }
+  if (plots) {
+    ensure_writable_directory(dir / "plots");
+    write_map_plot((dir / "plots" / "map_top.png").string(), r);
+  }
+  const double frames = static_cast<double>(r.slam_poses.size());
+  j["timing"] = {{"frontend_ms_median", quantile(r.frontend_ms, 0.5)},
+                 {"frontend_ms_p95", quantile(r.frontend_ms, 0.95)},
+                 {"vo_ms_median", quantile(r.vo_ms, 0.5)},
+                 {"vo_ms_p95", quantile(r.vo_ms, 0.95)},
+                 {"backend_ms_median", quantile(r.backend_ms, 0.5)},
+                 {"backend_ms_p95", quantile(r.backend_ms, 0.95)},
+                 {"backend_ms_mean", summarize(r.backend_ms).mean},
+                 {"wall_s", r.wall_s},
+                 {"fps", r.wall_s > 0 ? frames / r.wall_s : 0.0},
+                 {"peak_rss_mib", peak_rss_mib()}};
+  j["map"] = {{"landmarks", r.map.size()}};
+  double ess = 0.0, res = 0.0;
+  for (double e : r.ess_fraction) ess += e;
+  for (bool b : r.resampled) res += b ? 1.0 : 0.0;
+  const double steps = static_cast<double>(r.ess_fraction.size());
+  j["filter"] = {{"ess_percent", steps > 0 ? 100.0 * ess / steps : 0.0},
+                 {"resampling_percent", steps > 0 ? 100.0 * res / steps : 0.0},
+                 {"vo_fallback_frames", r.vo_fallbacks},
+                 {"missing_frames", r.missing_frames}};
+  eval::write_json_file((dir / "metrics.json").string(), j);
+
+  std::printf("\n%s", table.c_str());
+  std::printf(
+      "\nframes %zu, %.2f fps (frontend median %.1f ms, VO %.1f ms, backend %.1f ms), map %zu landmarks\n",
+      r.slam_poses.size(), r.wall_s > 0 ? frames / r.wall_s : 0.0, quantile(r.frontend_ms, 0.5),
+      quantile(r.vo_ms, 0.5), quantile(r.backend_ms, 0.5), r.map.size());
+  std::printf(
+      "outputs in %s:\n  trajectory   %s\n  VO           %s\n  map          %s\n  report       %s\n"
+      "  plots        %s\n",
+      dir.string().c_str(), (dir / "trajectory.txt").string().c_str(),
+      (dir / "vo_trajectory.txt").string().c_str(), (dir / "map.pcd").string().c_str(),
+      (dir / "metrics.json").string().c_str(), (dir / "plots").string().c_str());
+}
+
+}  // namespace glmbslam::app

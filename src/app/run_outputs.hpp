@@ -1,0 +1,44 @@
+#pragma once
+// Everything a stereo `glmbslam run` produces, and the writer of its output folder:
+//   trajectory.txt      SLAM estimate (KITTI format, one pose per input frame)
+//   vo_trajectory.txt   the frontend's visual odometry, accumulated (KITTI format)
+//   map.pcd             labelled landmarks of the final MAP estimate with existence probability
+//   metrics.json        `slam` and `vo` evaluation blocks (when ground truth exists), `timing`, `map`,
+//   `filter` config_used.yaml    the effective configuration plots/              trajectories vs ground
+//   truth, errors, map top view (PNG)
+#include <string>
+#include <vector>
+
+#include <optional>
+#include "core/types.hpp"
+#include "io/pcd_writer.hpp"
+
+namespace glmbslam::app {
+
+struct RunRecord {
+  std::string dataset_name;
+  std::string algorithm;
+  int particles = 0;
+  std::uint64_t seed = 0;
+  std::size_t first_frame = 0;
+  PoseList slam_poses;
+  PoseList vo_poses;
+  std::optional<PoseList> ground_truth;  ///< relative to the first processed frame
+  std::vector<io::MapPoint> map;
+  std::vector<double> frontend_ms, vo_ms, backend_ms;
+  std::vector<double> ess_fraction;  ///< ESS / N per step
+  std::vector<bool> resampled;
+  std::size_t vo_fallbacks = 0;
+  std::size_t missing_frames = 0;
+  double wall_s = 0.0;
+  std::string effective_config;
+};
+
+/// Writes the output folder (every file atomically) and prints where the outputs are and the headline
+/// metrics. Throws InputError naming the file on a write failure.
+void write_run_outputs(const std::string& out_dir, const RunRecord& record, bool plots);
+
+/// Peak resident set size of this process in MiB (VmHWM), 0 if unknown.
+double peak_rss_mib();
+
+}  // namespace glmbslam::app

@@ -1,0 +1,44 @@
+#pragma once
+// Settings of the stereo SLAM pipeline (`glmbslam run` on KITTI): one YAML file with the mappings
+//   frontend:    ORB, stereo matching, visual odometry (frontend/frontend_config.hpp)
+//   motion:      SE(3) motion driven by the VO (backend/models/se3_motion.hpp)
+//   measurement: stereo measurement model (backend/models/stereo_measurement_model.hpp)
+//   rbpf:        particle filter and δ-GLMB map update (backend/rbpf/rbpf_config.hpp; child `glmb`)
+//   pipeline:    what this file declares below.
+// Every key has a default in code; config/kitti*.yaml document them. Unknown keys are errors.
+#include <string>
+
+#include <yaml-cpp/yaml.h>
+
+#include "backend/models/se3_motion.hpp"
+#include "backend/models/stereo_measurement_model.hpp"
+#include "backend/rbpf/rbpf_config.hpp"
+#include "frontend/frontend_config.hpp"
+
+namespace glmbslam::app {
+
+struct PipelineSettings {
+  int max_measurements = 150;    ///< stereo measurements handed to the backend per frame (spread over a grid)
+  int grid_columns = 10;         ///< selection grid over the image: columns …
+  int grid_rows = 4;             ///< … and rows; each cell contributes its strongest measurements in turn
+  bool overlap_frontend = true;  ///< run the frontend of frame k+1 while the backend processes frame k
+  bool write_plots = true;       ///< PNG plots next to metrics.json
+  std::string algorithm = "glmb2";  ///< glmb2 (optimal proposal), glmb1 (prior proposal) or vo (no backend)
+};
+
+struct StereoConfig {
+  frontend::FrontendConfig frontend;
+  backend::Se3MotionConfig motion;
+  backend::StereoMeasurementConfig measurement;
+  backend::RbpfConfig rbpf;
+  PipelineSettings pipeline;
+};
+
+/// Defaults for the stereo pipeline (KITTI, paper 000's 20 m range, 10 particles).
+StereoConfig default_stereo_config();
+
+/// Reads a parsed YAML document (from `origin`, named in messages) over the defaults.
+/// Throws ConfigError naming the key and origin on an unknown key, a wrong type or a value out of range.
+StereoConfig parse_stereo_config(const YAML::Node& root, const std::string& origin);
+
+}  // namespace glmbslam::app
