@@ -1,13 +1,36 @@
-// Placeholder: replaced by the issue that implements `glmbslam sim`.
-#include <stdexcept>
+// `glmbslam sim`: Monte Carlo runs of the papers' 2D simulations (paper2019, phdslam3) with
+// δ-GLMB-SLAM 2.0/1.0 or RB-PHD-SLAM 1.0; writes metrics.json and plots (app/sim_runner.hpp).
+#include <iostream>
 
 #include "app/commands.hpp"
+#include "app/sim_runner.hpp"
 
 namespace glmbslam::app {
 
 void register_sim_command(CLI::App& app) {
-  auto* cmd = app.add_subcommand("sim", "(not yet available)");
-  cmd->callback([] { throw std::runtime_error("glmbslam sim is not available in this build yet"); });
+  auto options = std::make_shared<SimOptions>();
+  auto* cmd =
+      app.add_subcommand("sim", "Monte Carlo runs of the 2D simulations (paper 000, paper 003 benchmark)");
+  cmd->add_option("--scenario", options->scenario, "paper2019 or phdslam3")->capture_default_str();
+  cmd->add_option(
+         "--algorithm", options->algorithm,
+         "glmb2 (δ-GLMB-SLAM 2.0), glmb1 (1.0), glmb_mh (multi-hypothesis proposal), phd1 (RB-PHD-SLAM 1.0)")
+      ->capture_default_str();
+  cmd->add_option("--particles", options->particles, "particles per filter")->capture_default_str();
+  cmd->add_option("--runs", options->runs, "Monte Carlo runs (run in parallel)")->capture_default_str();
+  cmd->add_option("--clutter", options->clutter, "clutter rate λ_c per scan (paper2019; default 5)");
+  cmd->add_option("--seed", options->seed, "filter seed base (run r uses seed·1000003 + r)")
+      ->capture_default_str();
+  cmd->add_option("--config", options->config_file, "YAML with optional 'rbpf' and 'phd' mappings");
+  cmd->add_option("--out", options->out_dir, "output folder (metrics.json, PNG plots)")->required();
+  cmd->add_option("--data", options->data_dir, "shared data root (default $GLMBSLAM_DATA or ../shared/data)");
+  cmd->add_option("--max-steps", options->max_steps, "only the first N steps (0 = all)")
+      ->capture_default_str();
+  cmd->add_flag("!--no-plots", options->plots, "do not write the PNG plots");
+  cmd->callback([options] {
+    const nlohmann::json metrics = run_simulation(*options);
+    std::cout << summarize_simulation(metrics) << "\n";
+  });
 }
 
 }  // namespace glmbslam::app
