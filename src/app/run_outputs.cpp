@@ -36,7 +36,7 @@ void write_map_plot(const std::string& path, const RunRecord& r) {
   };
   if (r.ground_truth) add_path(*r.ground_truth, eval::colours::kBlack, "ground truth");
   add_path(r.vo_poses, eval::colours::kOrange, "visual odometry");
-  add_path(r.slam_poses, eval::colours::kBlue, "δ-GLMB-SLAM");
+  add_path(r.slam_poses, eval::colours::kBlue, "delta-GLMB-SLAM");
   plot.save_png(path);
 }
 
@@ -84,7 +84,7 @@ void write_run_outputs(const std::string& out_dir, const RunRecord& r, bool plot
     table = "SLAM\n" + eval::format_table(slam) + "\nVO\n" + eval::format_table(vo);
     if (plots) {
       eval::write_evaluation_plots((dir / "plots" / "slam").string(), *r.ground_truth, r.slam_poses, slam,
-                                   "δ-GLMB-SLAM");
+                                   "delta-GLMB-SLAM");
       eval::write_evaluation_plots((dir / "plots" / "vo").string(), *r.ground_truth, r.vo_poses, vo,
                                    "visual odometry");
     }
