@@ -1,4 +1,5 @@
-// `glmbslam render`: synthetic stereo sequences in the KITTI odometry layout (src/sim/kitti_sequence_writer.hpp).
+// `glmbslam render`: synthetic stereo sequences in the KITTI odometry layout
+// (src/sim/kitti_sequence_writer.hpp).
 #include <spdlog/spdlog.h>
 
 #include "app/commands.hpp"
@@ -17,8 +18,10 @@ void register_render_command(CLI::App& app) {
                   "KITTI pose file to drive along (default: built-in ~400 m loop with a loop closure)");
   cmd->add_option("--calib", opt->calibration, "kitti00-02, kitti03, kitti04-12 or a KITTI calib.txt file")
       ->capture_default_str();
-  cmd->add_option("--size", opt->image_size, "image size WIDTHxHEIGHT (only with a calib file; default 1241x376)");
-  cmd->add_option("--frames", opt->frames, "frame range A:B of the pose file (frames A..B-1), or A: (default all)");
+  cmd->add_option("--size", opt->image_size,
+                  "image size WIDTHxHEIGHT (only with a calib file; default 1241x376)");
+  cmd->add_option("--frames", opt->frames,
+                  "frame range A:B of the pose file (frames A..B-1), or A: (default all)");
   cmd->add_option("--seed", opt->seed, "world and noise seed")->capture_default_str();
   cmd->add_option("--sequence", opt->sequence, "sequence folder name XX")->capture_default_str();
   cmd->add_option("--noise", opt->photometric.noise_sigma, "Gaussian pixel noise sigma (grey levels)")
@@ -27,10 +30,15 @@ void register_render_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--exposure", opt->photometric.exposure_sigma, "per-frame log-exposure sigma")
       ->capture_default_str();
-  cmd->add_option("--movers", opt->movers, "number of moving boxes driving along the road")->capture_default_str();
-  cmd->add_flag("--depth", opt->depth, "also write depth_0/NNNNNN.png (left depth, uint16 metres*256, 0 = sky)");
-  cmd->add_flag("--no-images", [opt](std::int64_t) { opt->images = false; },
-                "dry run: write only calib.txt, times.txt and the poses");
+  cmd->add_option("--movers", opt->movers, "number of moving boxes driving along the road")
+      ->capture_default_str();
+  cmd->add_option("--png-compression", opt->png_compression, "zlib level 0 (fastest, ~2x larger files) to 9")
+      ->capture_default_str();
+  cmd->add_flag("--depth", opt->depth,
+                "also write depth_0/NNNNNN.png (left depth, uint16 metres*256, 0 = sky)");
+  cmd->add_flag(
+      "--no-images", [opt](std::int64_t) { opt->images = false; },
+      "dry run: write only calib.txt, times.txt and the poses");
   cmd->callback([opt] {
     const auto summary = sim::render_kitti_sequence(*opt);
     spdlog::info("rendered {} frames into {} ({:.1f} s, {:.1f} frames/s); poses in {}", summary.frames,

@@ -18,7 +18,9 @@ constexpr double kOverlap = 40.0;
 constexpr double kHeightAmplitude = 1.0;
 constexpr double kStep = 0.01;  // arc-length integration step
 
-double corner_length() { return kRadius * kPi / 2.0 + kRamp; }  // plateau + 2 ramps, ∫κ ds = π/2
+double corner_length() {
+  return kRadius * kPi / 2.0 + kRamp;
+}  // plateau + 2 ramps, ∫κ ds = π/2
 
 /// Curvature at arc length s (positive: right turn).
 double curvature(double s) {
@@ -82,7 +84,8 @@ PoseList default_trajectory(double rate_hz, DefaultTrajectoryInfo* info) {
       const double slope = -kHeightAmplitude * 2.0 * kPi / loop * std::cos(2.0 * kPi * s / loop);
       const double pitch = -std::atan(slope);
       Pose3 T = Pose3::Identity();
-      T.linear() = (Eigen::AngleAxisd(pth, Eigen::Vector3d::UnitY()) * Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitX()))
+      T.linear() = (Eigen::AngleAxisd(pth, Eigen::Vector3d::UnitY()) *
+                    Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitX()))
                        .toRotationMatrix();
       T.translation() = Eigen::Vector3d(px, py, pz);
       poses.push_back(T);

@@ -8,8 +8,8 @@
 #include <mutex>
 #include <vector>
 
-#include <opencv2/imgcodecs.hpp>
 #include <unistd.h>
+#include <opencv2/imgcodecs.hpp>
 
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
@@ -62,8 +62,7 @@ std::string frame_name(std::size_t i) {
   return buf;
 }
 
-void write_png(const fs::path& path, const cv::Mat& image) {
-  static const std::vector<int> params = {cv::IMWRITE_PNG_COMPRESSION, 1};
+void write_png(const fs::path& path, const cv::Mat& image, const std::vector<int>& params) {
   bool ok = false;
   try {
     ok = cv::imwrite(path.string(), image, params);
@@ -80,21 +79,31 @@ void remove_quietly(const fs::path& path) {
 
 }  // namespace
 
+std::vector<int> png_parameters(int level) {
+  if (level <= 0) return {cv::IMWRITE_PNG_COMPRESSION, 0};
+  return {cv::IMWRITE_PNG_COMPRESSION, std::min(level, 9), cv::IMWRITE_PNG_STRATEGY,
+          cv::IMWRITE_PNG_STRATEGY_HUFFMAN_ONLY};
+}
+
 StereoCalibration named_kitti_calibration(const std::string& name) {
   if (name == "kitti00-02") return make_calibration(718.856, 607.1928, 185.2157, 386.1448, 1241, 376);
   if (name == "kitti03") return make_calibration(721.5377, 609.5593, 172.854, 387.5744, 1242, 375);
   if (name == "kitti04-12") return make_calibration(707.0912, 601.8873, 183.1104, 379.8145, 1226, 370);
-  throw ConfigError("unknown calibration '" + name + "' (use kitti00-02, kitti03, kitti04-12 or a calib.txt file)");
+  throw ConfigError("unknown calibration '" + name +
+                    "' (use kitti00-02, kitti03, kitti04-12 or a calib.txt file)");
 }
 
 StereoCalibration resolve_calibration(const std::string& name_or_file, const std::string& size) {
-  const bool is_file = name_or_file.find('/') != std::string::npos || name_or_file.find('.') != std::string::npos;
+  const bool is_file =
+      name_or_file.find('/') != std::string::npos || name_or_file.find('.') != std::string::npos;
   if (!is_file) {
-    if (!size.empty()) throw ConfigError("--size applies only to a calibration file, not to '" + name_or_file + "'");
+    if (!size.empty())
+      throw ConfigError("--size applies only to a calibration file, not to '" + name_or_file + "'");
     return named_kitti_calibration(name_or_file);
   }
   if (!fs::is_regular_file(name_or_file)) {
-    throw InputError(name_or_file, "calibration file not found (named sets: kitti00-02, kitti03, kitti04-12)");
+    throw InputError(name_or_file,
+                     "calibration file not found (named sets: kitti00-02, kitti03, kitti04-12)");
   }
   StereoCalibration c = io::read_kitti_odometry_calibration(name_or_file);
   c.width = 1241;
@@ -125,8 +134,9 @@ void write_kitti_calibration(const fs::path& path, const StereoCalibration& c) {
   write_text_file_atomically(path, [&](std::ostream& out) {
     auto line = [&](const char* key, double tx) {
       char buf[512];
-      std::snprintf(buf, sizeof(buf), "%s: %.12e %.12e %.12e %.12e %.12e %.12e %.12e %.12e %.12e %.12e %.12e %.12e\n",
-                    key, c.fx, 0.0, c.cx, tx, 0.0, c.fy, c.cy, 0.0, 0.0, 0.0, 1.0, 0.0);
+      std::snprintf(buf, sizeof(buf),
+                    "%s: %.12e %.12e %.12e %.12e %.12e %.12e %.12e %.12e %.12e %.12e %.12e %.12e\n", key,
+                    c.fx, 0.0, c.cx, tx, 0.0, c.fy, c.cy, 0.0, 0.0, 0.0, 1.0, 0.0);
       out << buf;
     };
     line("P0", 0.0);
@@ -139,23 +149,31 @@ void write_kitti_calibration(const fs::path& path, const StereoCalibration& c) {
 SequenceRenderSummary render_kitti_sequence(const SequenceRenderOptions& options) {
   Stopwatch watch;
   if (options.out_dir.empty()) throw ConfigError("render: an output folder (--out) is required");
-  if (options.sequence.empty() || options.sequence.size() > 64) throw ConfigError("render: bad sequence name");
+  if (options.sequence.empty() || options.sequence.size() > 64)
+    throw ConfigError("render: bad sequence name");
   for (char c : options.sequence) {
     if (!std::isalnum(static_cast<unsigned char>(c)) && c != '_' && c != '-') {
-      throw ConfigError("render: sequence name '" + options.sequence + "' may hold only letters, digits, '_', '-'");
+      throw ConfigError("render: sequence name '" + options.sequence +
+                        "' may hold only letters, digits, '_', '-'");
     }
   }
   if (options.movers < 0) throw ConfigError("render: --movers must be >= 0");
   if (!(options.frame_rate > 0.0)) throw ConfigError("render: frame rate must be positive");
+  if (options.png_compression < 0 || options.png_compression > 9) {
+    throw ConfigError("render: PNG compression must be in 0..9");
+  }
+  const std::vector<int> png = png_parameters(options.png_compression);
   const PhotometricOptions& ph = options.photometric;
-  if (!(ph.noise_sigma >= 0.0) || !(ph.vignetting >= 0.0 && ph.vignetting < 1.0) || !(ph.exposure_sigma >= 0.0)) {
+  if (!(ph.noise_sigma >= 0.0) || !(ph.vignetting >= 0.0 && ph.vignetting < 1.0) ||
+      !(ph.exposure_sigma >= 0.0)) {
     throw ConfigError("render: noise and exposure must be >= 0, vignetting in [0, 1)");
   }
 
   // Inputs first: nothing is written before they are all valid.
-  const PoseList trajectory =
-      options.poses_path.empty() ? default_trajectory(options.frame_rate) : io::read_kitti_poses(options.poses_path);
-  const std::string source = options.poses_path.empty() ? std::string("default trajectory") : options.poses_path;
+  const PoseList trajectory = options.poses_path.empty() ? default_trajectory(options.frame_rate)
+                                                         : io::read_kitti_poses(options.poses_path);
+  const std::string source =
+      options.poses_path.empty() ? std::string("default trajectory") : options.poses_path;
   const FrameRange range = parse_frame_range(options.frames, trajectory.size(), source);
   const StereoCalibration calib = resolve_calibration(options.calibration, options.image_size);
 
@@ -208,9 +226,10 @@ SequenceRenderSummary render_kitti_sequence(const SequenceRenderOptions& options
           if (!renderers[slot]) renderers[slot] = std::make_unique<StereoRenderer>(world, calib, ropt);
           const std::size_t i = range.begin + j;
           RenderedFrame& f = frames[slot];
-          renderers[slot]->render(trajectory[i], static_cast<double>(i) / options.frame_rate, i, f, options.depth);
-          write_png(temp_dir / "image_0" / frame_name(j), f.left);
-          write_png(temp_dir / "image_1" / frame_name(j), f.right);
+          renderers[slot]->render(trajectory[i], static_cast<double>(i) / options.frame_rate, i, f,
+                                  options.depth);
+          write_png(temp_dir / "image_0" / frame_name(j), f.left, png);
+          write_png(temp_dir / "image_1" / frame_name(j), f.right, png);
           if (options.depth) {
             cv::Mat& d16 = depth16[slot];
             d16.create(f.depth.rows, f.depth.cols, CV_16UC1);
@@ -222,7 +241,7 @@ SequenceRenderSummary render_kitti_sequence(const SequenceRenderOptions& options
                 dst[c] = v > 0.0 && v <= 65535.0 ? static_cast<std::uint16_t>(v) : 0;
               }
             }
-            write_png(temp_dir / "depth_0" / frame_name(j), d16);
+            write_png(temp_dir / "depth_0" / frame_name(j), d16, png);
           }
           const std::size_t n = ++done;
           std::lock_guard<std::mutex> lock(mutex);
@@ -248,13 +267,16 @@ SequenceRenderSummary render_kitti_sequence(const SequenceRenderOptions& options
                   trajectory.begin() + static_cast<std::ptrdiff_t>(range.end));
     io::write_kitti_poses(summary.poses_file.string(), io::relative_to_first(used));
     // Swap the complete folder in.
-    const fs::path old_dir = sequences / (options.sequence + ".old." + std::to_string(static_cast<long>(::getpid())));
+    const fs::path old_dir =
+        sequences / (options.sequence + ".old." + std::to_string(static_cast<long>(::getpid())));
     if (fs::exists(final_dir)) {
       fs::rename(final_dir, old_dir, ec);
-      if (ec) throw InputError(final_dir.string(), "cannot replace the existing sequence (" + ec.message() + ")");
+      if (ec)
+        throw InputError(final_dir.string(), "cannot replace the existing sequence (" + ec.message() + ")");
     }
     fs::rename(temp_dir, final_dir, ec);
-    if (ec) throw InputError(final_dir.string(), "cannot rename the finished sequence (" + ec.message() + ")");
+    if (ec)
+      throw InputError(final_dir.string(), "cannot rename the finished sequence (" + ec.message() + ")");
     remove_quietly(old_dir);
   } catch (...) {
     remove_quietly(temp_dir);

@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "core/types.hpp"
 #include "sim/stereo_renderer.hpp"
@@ -33,6 +34,10 @@ struct FrameRange {
 /// Throws InputError naming `source` (the pose file) if the range is empty or outside [0, count).
 FrameRange parse_frame_range(const std::string& text, std::size_t count, const std::string& source);
 
+/// OpenCV PNG parameters for a zlib level 0–9 (level ≥ 1 uses Huffman-only coding: on noisy rendered images
+/// it is faster and smaller than the default strategy).
+std::vector<int> png_parameters(int level);
+
 /// Writes a KITTI odometry calib.txt: P0 = [fx 0 cx 0; 0 fy cy 0; 0 0 1 0], P1 = P0 with P1[0,3] = −fx·b,
 /// P2 = P0, P3 = P1 (the renderer has no colour cameras). Atomic.
 void write_kitti_calibration(const std::filesystem::path& path, const StereoCalibration& calibration);
@@ -50,6 +55,7 @@ struct SequenceRenderOptions {
   bool images = true;  ///< false: only calib.txt, times.txt and the poses (dry run, no image folders)
   PhotometricOptions photometric;
   double frame_rate = 10.0;  ///< Hz (times.txt and the movers' timing)
+  int png_compression = 1;   ///< zlib level 0 (fastest, largest) … 9
 };
 
 struct SequenceRenderSummary {

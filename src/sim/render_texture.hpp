@@ -69,36 +69,40 @@ inline float value_noise(float x, float y, std::uint32_t seed) {
 
 /// One rectangle per square cell of size `cell`, random extent and signed intensity in [−1, 1], on a zero
 /// background; edges anti-aliased over the footprint.
-inline float rect_layer(float a, float b, float cell, std::uint32_t seed, float fp) {
+inline float rect_layer(float a, float b, float cell, std::uint32_t seed, float inv_fp) {
   const float inv_cell = 1.0f / cell;
   const float ga = a * inv_cell;
   const float gb = b * inv_cell;
   const std::int32_t ia = fast_floor(ga);
   const std::int32_t ib = fast_floor(gb);
-  const float la = (ga - static_cast<float>(ia)) * cell;
-  const float lb = (gb - static_cast<float>(ib)) * cell;
+  const float la = ga - static_cast<float>(ia);  // in cell units
+  const float lb = gb - static_cast<float>(ib);
   const std::uint32_t h = hash_cell(ia, ib, seed);
-  const float x0 = (0.04f + 0.36f * static_cast<float>(h & 0xFFU) * (1.0f / 255.0f)) * cell;
-  const float x1 = (0.60f + 0.36f * static_cast<float>((h >> 8) & 0xFFU) * (1.0f / 255.0f)) * cell;
-  const float y0 = (0.04f + 0.36f * static_cast<float>((h >> 16) & 0xFFU) * (1.0f / 255.0f)) * cell;
-  const float y1 = (0.60f + 0.36f * static_cast<float>(h >> 24) * (1.0f / 255.0f)) * cell;
-  const float inv_fp = 1.0f / fp;
-  const float cx = clamp01(std::min(la - x0, x1 - la) * inv_fp + 0.5f);
-  const float cy = clamp01(std::min(lb - y0, y1 - lb) * inv_fp + 0.5f);
+  constexpr float k = 0.36f / 255.0f;
+  const float x0 = 0.04f + k * static_cast<float>(static_cast<std::int32_t>(h & 0xFFU));
+  const float x1 = 0.60f + k * static_cast<float>(static_cast<std::int32_t>((h >> 8) & 0xFFU));
+  const float y0 = 0.04f + k * static_cast<float>(static_cast<std::int32_t>((h >> 16) & 0xFFU));
+  const float y1 = 0.60f + k * static_cast<float>(static_cast<std::int32_t>(h >> 24));
+  const float scale = cell * inv_fp;  // cell units → pixels
+  const float cx = clamp01(std::min(la - x0, x1 - la) * scale + 0.5f);
+  const float cy = clamp01(std::min(lb - y0, y1 - lb) * scale + 0.5f);
   const float v = 2.0f * unit(mix32(h + 0x68E31DA4U)) - 1.0f;
   return v * cx * cy;
 }
 
 /// Rectangle layers at three scales (coarse to fine), weighted by the footprint.
-inline float mondrian(float a, float b, float scale, std::uint32_t seed, float fp) {
+inline float mondrian(float a, float b, float scale, std::uint32_t seed, float fp, int layers = 2) {
+  const float inv_fp = 1.0f / fp;
+  const float q = 0.25f * inv_fp;
   float v = 0.0f;
-  float w = layer_weight(scale, fp);
-  if (w > 0.0f) v += w * rect_layer(a, b, scale, seed, fp);
-  w = layer_weight(scale * 0.33f, fp);
+  float w = clamp01(scale * q - 1.0f);
+  if (w > 0.0f) v += w * rect_layer(a, b, scale, seed, inv_fp);
+  w = clamp01(0.33f * scale * q - 1.0f);
   if (w > 0.0f)
-    v += 0.8f * w * rect_layer(a + 0.37f * scale, b + 0.11f * scale, scale * 0.33f, seed + 1U, fp);
-  w = layer_weight(scale * 0.11f, fp);
-  if (w > 0.0f) v += 0.6f * w * rect_layer(a, b, scale * 0.11f, seed + 2U, fp);
+    v += 0.8f * w * rect_layer(a + 0.37f * scale, b + 0.11f * scale, scale * 0.33f, seed + 1U, inv_fp);
+  if (layers < 3) return v;
+  w = clamp01(0.11f * scale * q - 1.0f);
+  if (w > 0.0f) v += 0.6f * w * rect_layer(a, b, scale * 0.11f, seed + 2U, inv_fp);
   return v;
 }
 
@@ -111,15 +115,12 @@ inline float albedo(const Surface& s, float a, float b, float fp) {
       break;
     case TextureKind::kGround: {
       v += 0.5f * c * (2.0f * value_noise(a * 0.25f, b * 0.25f, s.seed) - 1.0f);
-      v += 0.9f * c * mondrian(a, b, 1.2f, s.seed + 11U, fp);
-      const float wn = layer_weight(0.1f, fp);
-      if (wn > 0.0f) v += 0.3f * c * wn * (2.0f * value_noise(a * 12.0f, b * 12.0f, s.seed + 5U) - 1.0f);
+      v += 0.9f * c * mondrian(a, b, 0.9f, s.seed + 11U, fp);
       break;
     }
     case TextureKind::kFacade: {
       const float cw = s.param0;
       const float ch = s.param1;
-      v += 0.3f * c * (2.0f * value_noise(a * 0.5f, b * 0.5f, s.seed) - 1.0f);
       v += 0.5f * c * mondrian(a, b, 0.9f, s.seed + 3U, fp);
       const float ww = layer_weight(std::min(cw, ch) * 0.5f, fp);
       if (ww > 0.0f) {
@@ -140,8 +141,7 @@ inline float albedo(const Surface& s, float a, float b, float fp) {
       break;
     }
     case TextureKind::kMondrian:
-      v += c * mondrian(a, b, s.param0, s.seed, fp);
-      v += 0.15f * c * (2.0f * value_noise(a * 0.7f, b * 0.7f, s.seed + 9U) - 1.0f);
+      v += c * mondrian(a, b, s.param0, s.seed, fp, 3);
       break;
     case TextureKind::kBands: {
       const float p = s.param0;
@@ -157,7 +157,6 @@ inline float albedo(const Surface& s, float a, float b, float fp) {
     }
     case TextureKind::kFoliage:
       v += c * mondrian(a, b, 0.7f, s.seed, fp);
-      v += 0.4f * c * (2.0f * value_noise(a * 1.5f, b * 1.5f, s.seed + 4U) - 1.0f);
       break;
     case TextureKind::kDisc: {
       const float d = std::sqrt(a * a + b * b);

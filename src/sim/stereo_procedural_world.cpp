@@ -17,9 +17,13 @@ std::uint64_t cell_key(std::int64_t i, std::int64_t j) {
   return (static_cast<std::uint64_t>(i + (1LL << 31)) << 32) | static_cast<std::uint64_t>(j + (1LL << 31));
 }
 
-std::int64_t cell_index(double v, double size) { return static_cast<std::int64_t>(std::floor(v / size)); }
+std::int64_t cell_index(double v, double size) {
+  return static_cast<std::int64_t>(std::floor(v / size));
+}
 
-std::uint32_t draw_seed(RandomStream& rng) { return static_cast<std::uint32_t>(rng.engine()() >> 32); }
+std::uint32_t draw_seed(RandomStream& rng) {
+  return static_cast<std::uint32_t>(rng.engine()() >> 32);
+}
 
 // Stream ids of the world's random draws (disjoint ranges).
 constexpr std::uint64_t kStationStream = 0;
@@ -33,7 +37,8 @@ ProceduralWorld::ProceduralWorld(const PoseList& trajectory, ProceduralWorldOpti
   if (trajectory.empty()) throw ConfigError("procedural world: the trajectory has no poses");
   if (!(options_.camera_height > 0.0) || !(options_.frame_interval > 0.0) || options_.movers < 0 ||
       !(options_.object_radius > 0.0) || !(options_.ground_radius > 0.0) || !(options_.far_radius > 0.0)) {
-    throw ConfigError("procedural world: camera height, frame interval and radii must be positive, movers >= 0");
+    throw ConfigError(
+        "procedural world: camera height, frame interval and radii must be positive, movers >= 0");
   }
   // Horizontal arc length of every pose.
   frame_arc_.resize(trajectory.size());
@@ -160,7 +165,8 @@ void ProceduralWorld::append_station_objects(std::size_t k, SurfaceList& out) co
   const double rx = st.tz, rz = -st.tx;  // right of the forward direction (x right, z forward)
   for (int side = 0; side < 2; ++side) {
     const double sign = side == 0 ? -1.0 : 1.0;
-    RandomStream rng(options_.seed, kStationStream + 2 * static_cast<std::uint64_t>(k) + static_cast<unsigned>(side));
+    RandomStream rng(options_.seed,
+                     kStationStream + 2 * static_cast<std::uint64_t>(k) + static_cast<unsigned>(side));
     const double u = rng.uniform();
     const double jitter = rng.uniform(-1.0, 1.0);
     const std::uint32_t tex_seed = draw_seed(rng);
@@ -231,12 +237,13 @@ void ProceduralWorld::append_station_objects(std::size_t k, SurfaceList& out) co
     const Eigen::Vector3d forward(st.tx, 0.0, st.tz);
     const Eigen::Vector3d base(cx, st.ground + kBury, cz);
     if (what == Kind::kTree) {
-      append_box(base, forward, kUp, 0.35, 0.35, height + kBury, TextureKind::kBands, tex_seed, 0.3f, 0.2f, 0.4f,
-                 1.0f, out);
+      append_box(base, forward, kUp, 0.35, 0.35, height + kBury, TextureKind::kBands, tex_seed, 0.3f, 0.2f,
+                 0.4f, 1.0f, out);
       append_box(Eigen::Vector3d(cx, st.ground - height, cz), forward, kUp, length, width, length, kind,
                  tex_seed + 1U, albedo, contrast, p0, p1, out);
     } else {
-      append_box(base, forward, kUp, length, width, height + kBury, kind, tex_seed, albedo, contrast, p0, p1, out);
+      append_box(base, forward, kUp, length, width, height + kBury, kind, tex_seed, albedo, contrast, p0, p1,
+                 out);
     }
   }
 }
@@ -265,8 +272,8 @@ void ProceduralWorld::append_far_towers(const Eigen::Vector3d& camera, SurfaceLi
       for_each_station_near(x, z, kClearance + 0.71 * size, [&](std::size_t, double) { near_path = true; });
       if (near_path) continue;
       const double base_y = ground_height(x, z) + 5.0;
-      append_box(Eigen::Vector3d(x, base_y, z), Eigen::Vector3d(std::sin(yaw), 0.0, std::cos(yaw)), kUp, size, size,
-                 height + 5.0, TextureKind::kFacade, tex_seed, albedo, 0.35f, cw, ch, out);
+      append_box(Eigen::Vector3d(x, base_y, z), Eigen::Vector3d(std::sin(yaw), 0.0, std::cos(yaw)), kUp, size,
+                 size, height + 5.0, TextureKind::kFacade, tex_seed, albedo, 0.35f, cw, ch, out);
     }
   }
 }
@@ -340,11 +347,12 @@ Station ProceduralWorld::station_at(double s) const {
 void ProceduralWorld::append_movers(double time, SurfaceList& out) const {
   if (options_.movers == 0 || stations_.size() < 2) return;
   // The camera's arc length at `time` (poses are frame_interval apart).
-  const double q = std::clamp(time / options_.frame_interval, 0.0, static_cast<double>(frame_arc_.size() - 1));
+  const double q =
+      std::clamp(time / options_.frame_interval, 0.0, static_cast<double>(frame_arc_.size() - 1));
   const auto i = static_cast<std::size_t>(std::floor(q));
-  const double s_cam =
-      i + 1 < frame_arc_.size() ? frame_arc_[i] + (q - static_cast<double>(i)) * (frame_arc_[i + 1] - frame_arc_[i])
-                                : frame_arc_.back();
+  const double s_cam = i + 1 < frame_arc_.size() ? frame_arc_[i] + (q - static_cast<double>(i)) *
+                                                                       (frame_arc_[i + 1] - frame_arc_[i])
+                                                 : frame_arc_.back();
   for (int m = 0; m < options_.movers; ++m) {
     RandomStream rng(options_.seed, kMoverStream + static_cast<std::uint64_t>(m));
     const double offset = rng.uniform(-20.0, 80.0);
@@ -361,8 +369,9 @@ void ProceduralWorld::append_movers(double time, SurfaceList& out) const {
     const double width = van ? 2.2 : 1.8;
     const double x = st.x + lateral * st.tz;
     const double z = st.z - lateral * st.tx;
-    append_box(Eigen::Vector3d(x, st.ground + 0.3, z), Eigen::Vector3d(st.tx, 0.0, st.tz), kUp, van ? 6.0 : 4.2, width,
-               (van ? 2.6 : 1.5) + 0.3, TextureKind::kMondrian, tex_seed, albedo, 0.45f, 0.9f, 1.0f, out);
+    append_box(Eigen::Vector3d(x, st.ground + 0.3, z), Eigen::Vector3d(st.tx, 0.0, st.tz), kUp,
+               van ? 6.0 : 4.2, width, (van ? 2.6 : 1.5) + 0.3, TextureKind::kMondrian, tex_seed, albedo,
+               0.45f, 0.9f, 1.0f, out);
   }
 }
 

@@ -196,6 +196,7 @@ void StereoRenderer::shade(const Pose3& T_world_cam, std::uint64_t frame_id, int
   const Eigen::Vector3d up_cam = T_world_cam.linear().transpose() * world_.up();
   const double r_corner2 = std::max(cx * cx, (W - cx) * (W - cx)) + std::max(cy * cy, (H - cy) * (H - cy));
   const double vig = ph.vignetting / r_corner2;
+  const auto inv_fx = static_cast<float>(1.0 / fx);
 
   for (int row = 0; row < H; ++row) {
     auto* img = image.ptr<std::uint8_t>(row);
@@ -218,11 +219,12 @@ void StereoRenderer::shade(const Pose3& T_world_cam, std::uint64_t frame_id, int
         const double z = 1.0 / w;
         const double a = (p.Au * col + p.Bu * row + p.Cu) * z;
         const double b = (p.Av * col + p.Bv * row + p.Cv) * z;
-        const double rn = std::sqrt(r2);
-        const double cos_t = std::max(std::abs(p.nx * rx + p.ny * ry + p.nz) / rn, 1e-3);
-        const double fp = z * rn / (fx * std::sqrt(cos_t));
-        value =
-            texture::albedo(*p.surface, static_cast<float>(a), static_cast<float>(b), static_cast<float>(fp));
+        // Footprint: z·|r|/fx across the ray, divided by √cosθ (geometric mean of the two axes on the
+        // surface).
+        const float rn = std::sqrt(static_cast<float>(r2));
+        const float cos_t = std::max(std::abs(static_cast<float>(p.nx * rx + p.ny * ry + p.nz)) / rn, 1e-3f);
+        const float fp = static_cast<float>(z) * rn * inv_fx / std::sqrt(cos_t);
+        value = texture::albedo(*p.surface, static_cast<float>(a), static_cast<float>(b), fp);
         if (dep != nullptr) dep[col] = static_cast<float>(z);
       }
       const double dx = col - cx, dy = row - cy;
