@@ -1,0 +1,19 @@
+#pragma once
+// Settings of the multi-hypothesis importance density (mh_proposal.hpp; paper 003 Sec. VI, digest 2.6).
+#include "core/config_node.hpp"
+
+namespace glmbslam::backend {
+
+struct MhProposalConfig {
+  int max_assignments = 50;         ///< Γ̄: Murty's ranked assignments at most
+  double assignment_ratio = 1e-3;   ///< stop when an assignment is less likely than this × the best
+  int ipl_iterations = 5;           ///< L: iterated posterior linearisation iterations
+  double ipl_tolerance = 1e-3;      ///< ε: KL divergence between successive iterates that stops the IPL
+  double gate_threshold = 41.4465;  ///< χ² gate on the pose-marginal innovation (1 − 1e-9 quantile, 2 dof)
+  double fov_margin_sigmas = 3.0;   ///< margin (× position std of P̄) of the in-view landmark query
+};
+
+/// Loads the keys above (member names). Unknown keys are errors.
+void load_mh_proposal_config(ConfigNode node, MhProposalConfig& config);
+
+}  // namespace glmbslam::backend

@@ -1,0 +1,40 @@
+#pragma once
+// Settings of the Victoria Park pipeline (config/victoria_park.yaml documents every key; the defaults here
+// are the published protocol of paper 003 Sec. VI-B / ../shared/data/README.md).
+#include <string>
+
+#include <Eigen/Core>
+
+#include "backend/models/ackermann_motion.hpp"
+#include "backend/models/range_bearing_model.hpp"
+#include "backend/rbpf/mh_proposal_config.hpp"
+#include "backend/rbpf/rbpf_config.hpp"
+#include "io/victoria_park.hpp"
+
+namespace glmbslam::app {
+
+struct VictoriaParkConfig {
+  /// glmb2 (optimal proposal), glmb1 (prior proposal), glmb-mh (multi-hypothesis proposal),
+  /// deadreckoning (noise-free motion model)
+  std::string algorithm = "glmb2";
+  Eigen::Vector3d initial_pose{-67.6493, -41.7142, 35.5 * M_PI / 180.0};  ///< laser (x, y, φ) at t_0
+  bool skip_empty_scans = true;  ///< scans without a real detection in view are not filter steps
+  double clutter_rate = 5.0;     ///< artificial clutter λ per scan (generated; 0 = none)
+  double gps_match_window_s = 0.025;
+  io::GpsFilterOptions gps;
+  backend::AckermannMotionConfig motion;
+  backend::RangeBearingConfig measurement;
+  backend::RbpfConfig rbpf;
+  backend::MhProposalConfig mh;
+  bool write_plot = true;
+  int threads = 1;  ///< worker threads (0 = all cores); 1 = the published single-core protocol
+};
+
+/// The protocol defaults (incl. the δ-GLMB/RBPF settings used for Victoria Park).
+VictoriaParkConfig default_victoria_park_config();
+
+/// Reads `path` over the defaults; unknown keys are ConfigErrors naming the key and file.
+void load_victoria_park_config(const std::string& path, VictoriaParkConfig& config);
+void load_victoria_park_config(ConfigNode node, VictoriaParkConfig& config);
+
+}  // namespace glmbslam::app
