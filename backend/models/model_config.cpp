@@ -15,6 +15,7 @@ void load_unicycle_motion_config(ConfigNode node, UnicycleMotionConfig& config) 
   node.read_in_range("dt", config.dt, 1e-6, 1e6);
   node.read_in_range("sigma_v", config.sigma_v, 0.0, 1e6);
   read_degrees(node, "sigma_omega_deg", config.sigma_omega, 0.0, 360.0);
+  node.read("euler", config.euler);
   node.finish();
 }
 

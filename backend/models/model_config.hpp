@@ -7,7 +7,7 @@
 
 namespace glmbslam::backend {
 
-/// Keys: dt, sigma_v, sigma_omega_deg.
+/// Keys: dt, sigma_v, sigma_omega_deg, euler.
 void load_unicycle_motion_config(ConfigNode node, UnicycleMotionConfig& config);
 /// Keys: dt, wheel_base, sigma_v, sigma_steer_deg.
 void load_steering_motion_config(ConfigNode node, SteeringMotionConfig& config);

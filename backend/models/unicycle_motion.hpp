@@ -54,6 +54,9 @@ struct UnicycleMotionConfig {
   double sigma_v = 0.8;                            ///< std of the speed noise (m/s)
   double sigma_omega = 0.5 * M_PI / 180.0;         ///< std of the turn-rate noise (rad/s)
   Eigen::Vector3d regulariser{1e-9, 1e-9, 1e-18};  ///< added to the diagonal of F_ε Q F_εᵀ
+  /// Euler integration instead of the exact arc: x + vT cos θ, y + vT sin θ, θ + ωT (the phdslam3 benchmark
+  /// data are generated this way).
+  bool euler = false;
 };
 
 class UnicycleMotion : public Pose2Manifold {
@@ -68,15 +71,15 @@ class UnicycleMotion : public Pose2Manifold {
   /// f(x, u): the noise-free motion (Eq. 49), in the form Δ = vT·sinc(ωT/2)·(cos, sin)(θ + ωT/2), which is
   /// numerically stable for every ω (including ω = 0).
   State predict(const State& x, const Control& u) const {
-    const double T = config_.dt, v = u(0), b = u(1) * T, a = x(2) + 0.5 * b;
-    const double d = v * T * sinc(0.5 * b);
+    const double T = config_.dt, v = u(0), b = u(1) * T, a = config_.euler ? x(2) : x(2) + 0.5 * b;
+    const double d = config_.euler ? v * T : v * T * sinc(0.5 * b);
     return State(x(0) + d * std::cos(a), x(1) + d * std::sin(a), wrap_angle(x(2) + b));
   }
 
   /// F_x = ∂f/∂x.
   Covariance jacobian_state(const State& x, const Control& u) const {
-    const double T = config_.dt, v = u(0), b = u(1) * T, a = x(2) + 0.5 * b;
-    const double d = v * T * sinc(0.5 * b);
+    const double T = config_.dt, v = u(0), b = u(1) * T, a = config_.euler ? x(2) : x(2) + 0.5 * b;
+    const double d = config_.euler ? v * T : v * T * sinc(0.5 * b);
     Covariance F = Covariance::Identity();
     F(0, 2) = -d * std::sin(a);
     F(1, 2) = d * std::cos(a);
@@ -85,14 +88,15 @@ class UnicycleMotion : public Pose2Manifold {
 
   /// F_ε = ∂f/∂u (the control noise is additive on u).
   ControlJacobian jacobian_control(const State& x, const Control& u) const {
-    const double T = config_.dt, v = u(0), b = u(1) * T, a = x(2) + 0.5 * b;
-    const double s = sinc(0.5 * b), ds = sinc_derivative(0.5 * b);
+    const double T = config_.dt, v = u(0), b = u(1) * T, a = config_.euler ? x(2) : x(2) + 0.5 * b;
+    const double s = config_.euler ? 1.0 : sinc(0.5 * b), ds = config_.euler ? 0.0 : sinc_derivative(0.5 * b);
+    const double half = config_.euler ? 0.0 : 0.5;  // ∂a/∂ω = half·T
     const double c = std::cos(a), sn = std::sin(a);
     ControlJacobian G;
     G(0, 0) = T * s * c;
     G(1, 0) = T * s * sn;
-    G(0, 1) = v * T * 0.5 * T * (ds * c - s * sn);
-    G(1, 1) = v * T * 0.5 * T * (ds * sn + s * c);
+    G(0, 1) = v * T * T * (0.5 * ds * c - half * s * sn);
+    G(1, 1) = v * T * T * (0.5 * ds * sn + half * s * c);
     G(2, 0) = 0.0;
     G(2, 1) = T;
     return G;

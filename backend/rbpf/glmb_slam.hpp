@@ -86,6 +86,20 @@ class GlmbSlam {
     best_ = particles_[0];
   }
 
+  /// Optional, before the first step: the measurement set Z_0 taken at the (known) initial pose. It updates
+  /// the common initial map (so its measurements become birth candidates for step 1), anchoring the map to
+  /// the initial pose. Throws InputError on a non-finite measurement, std::logic_error after step().
+  void initial_scan(const MeasurementSet& Z) {
+    if (step_ != 0) throw std::logic_error("GlmbSlam::initial_scan must be called before the first step");
+    updater_.validate(Z, 0);
+    RandomStream rng(config_.seed, 0xFFFFFFULL);
+    auto map = std::make_shared<Map>();
+    updater_.update(*particles_[0].map, particles_[0].trajectory->pose, Z, 0, rng, *map);
+    std::shared_ptr<const Map> shared = std::move(map);
+    for (auto& p : particles_) p.map = shared;
+    best_ = particles_[0];
+  }
+
   /// One filter step with control u (from step k−1 to k) and the measurement set Z_k.
   /// Throws InputError (and leaves the filter unchanged) if a measurement or the control is not finite.
   void step(const Control& u, const MeasurementSet& Z) {

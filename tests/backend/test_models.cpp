@@ -35,6 +35,14 @@ TEST(UnicycleMotion, JacobiansMatchFiniteDifferences) {
   check_motion_jacobians(motion, Pose2(1.0, -2.0, 0.3), Eigen::Vector2d(1.1, 0.02));
   check_motion_jacobians(motion, Pose2(1.0, -2.0, 3.1), Eigen::Vector2d(0.9, -0.3));
   check_motion_jacobians(motion, Pose2(5.0, 2.0, -1.0), Eigen::Vector2d(1.0, 0.0));  // straight line
+  UnicycleMotionConfig euler;
+  euler.euler = true;
+  const UnicycleMotion euler_motion(euler);
+  check_motion_jacobians(euler_motion, Pose2(1.0, -2.0, 0.3), Eigen::Vector2d(1.1, 0.02));
+  const Pose2 e = euler_motion.predict(Pose2(1.0, 2.0, 0.5), Eigen::Vector2d(2.0, 0.1));
+  EXPECT_NEAR(e(0), 1.0 + 2.0 * std::cos(0.5), 1e-12);
+  EXPECT_NEAR(e(1), 2.0 + 2.0 * std::sin(0.5), 1e-12);
+  EXPECT_NEAR(e(2), 0.6, 1e-12);
 }
 
 TEST(UnicycleMotion, StraightAndCircularMotion) {
