@@ -50,7 +50,7 @@ struct VoConfig {
   bool rematch_after_pnp = true;        ///< redo guided matching with the PnP pose before refinement
   double repeated_image_mean_abs_diff =
       0.5;                                  ///< left images closer than this (grey levels) count as repeated
-  double fallback_covariance_scale = 25.0;  ///< fallback Q = scale · last good Q, at least the floor below
+  double fallback_covariance_scale = 25.0;  ///< fallback Q = scale · last good Q + floor²
   double fallback_sigma_translation_m = 0.5;  ///< floor of the fallback standard deviation, translation
   double fallback_sigma_rotation_rad = 0.02;  ///< floor of the fallback standard deviation, rotation
 };

@@ -79,6 +79,8 @@ StereoMeasurementList StereoMatcher::match(const OrbFeatures& left, const OrbFea
       const auto& kr = right.keypoints[static_cast<std::size_t>(j)];
       if (std::abs(kr.octave - kl.octave) > config_.max_octave_difference) continue;
       if (kr.pt.x < u_min || kr.pt.x > u_max) continue;
+      if (std::abs(kr.pt.y - kl.pt.y) > config_.row_band_px * scales_[static_cast<std::size_t>(kr.octave)])
+        continue;
       const int d = hamming_distance(dl, right.descriptors.ptr<uchar>(j));
       if (d < best) {
         best = d;
@@ -93,6 +95,8 @@ StereoMeasurementList StereoMatcher::match(const OrbFeatures& left, const OrbFea
         const auto& kr = right.keypoints[static_cast<std::size_t>(j)];
         if (j == best_j || std::abs(kr.octave - kl.octave) > config_.max_octave_difference) continue;
         if (kr.pt.x < u_min || kr.pt.x > u_max || std::abs(kr.pt.x - best_u) < 2.0) continue;
+        if (std::abs(kr.pt.y - kl.pt.y) > config_.row_band_px * scales_[static_cast<std::size_t>(kr.octave)])
+          continue;
         second = std::min(second, hamming_distance(dl, right.descriptors.ptr<uchar>(j)));
       }
       if (second != std::numeric_limits<int>::max() && best >= config_.ratio * second) continue;

@@ -148,6 +148,7 @@ void run_vo(const VoArgs& a) {
   std::vector<int> measurement_counts;
   std::map<std::string, int> status_counts;
   std::size_t loaded = 0;
+  bool png_written = false;
   Stopwatch all;
   for (std::size_t i = first; i < last; ++i) {
     Stopwatch sw;
@@ -170,8 +171,10 @@ void run_vo(const VoArgs& a) {
       measurements = static_cast<int>(f.measurements.size());
       est = vo.track(f);
       vo_ms.push_back(est.ms);
-      if (i - first == sample)
+      if (!png_written && i - first >= sample) {  // the sample frame, or the next one that loads
         write_png(out / "vo_features.png", draw_features(frame->left, frame->right, f));
+        png_written = true;
+      }
     } else {
       est = vo.skip_frame(frontend::VoStatus::kMissingImage);
     }

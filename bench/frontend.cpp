@@ -1,0 +1,157 @@
+// Frontend and VO speed on KITTI raw drive 0001 (1242×375, 2000 features): per-stage median and p95 over all
+// frames, one core (OpenCV threads = 1, left/right extraction sequential) and with the two extractions in
+// parallel, then Google Benchmark micro-benchmarks of the stages.
+// Run: bench_frontend [--benchmark_filter=...]   (GLMBSLAM_DATA overrides the data folder)
+#include <cstdio>
+#include <cstdlib>
+#include <ctime>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <benchmark/benchmark.h>
+#include <spdlog/spdlog.h>
+#include <opencv2/core/utility.hpp>
+#include <opencv2/imgcodecs.hpp>
+
+#include "core/stopwatch.hpp"
+#include "frontend/stereo_frontend.hpp"
+#include "frontend/visual_odometry.hpp"
+
+namespace {
+
+using namespace glmbslam;
+
+std::filesystem::path drive_dir() {
+  const char* env = std::getenv("GLMBSLAM_DATA");
+  const std::filesystem::path data = env != nullptr && *env != '\0' ? env : GLMBSLAM_DEFAULT_DATA_DIR;
+  return data / "kitti_raw/2011_09_26/2011_09_26_drive_0001_sync";
+}
+
+StereoCalibration calibration() {
+  StereoCalibration c;
+  c.fx = c.fy = 721.5377;
+  c.cx = 609.5593;
+  c.cy = 172.854;
+  c.baseline = 387.5744 / 721.5377;
+  c.width = 1242;
+  c.height = 375;
+  return c;
+}
+
+struct Pair {
+  cv::Mat left, right;
+};
+
+const std::vector<Pair>& frames() {
+  static const std::vector<Pair> f = [] {
+    std::vector<Pair> v;
+    for (int i = 0;; ++i) {
+      char name[32];
+      std::snprintf(name, sizeof name, "%010d.png", i);
+      Pair p{cv::imread((drive_dir() / "image_00/data" / name).string(), cv::IMREAD_GRAYSCALE),
+             cv::imread((drive_dir() / "image_01/data" / name).string(), cv::IMREAD_GRAYSCALE)};
+      if (p.left.empty() || p.right.empty()) break;
+      v.push_back(p);
+    }
+    return v;
+  }();
+  return f;
+}
+
+double thread_cpu_ms() {
+  timespec t;
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return t.tv_sec * 1e3 + t.tv_nsec * 1e-6;
+}
+
+void print_stage(const char* name, const std::vector<double>& v) {
+  const SampleSummary s = summarize(v);
+  std::printf("  %-34s median %7.2f ms   p95 %7.2f ms\n", name, s.median, s.p95);
+}
+
+void per_stage_report(bool parallel) {
+  frontend::FrontendConfig config;
+  config.orb.parallel = parallel;
+  const frontend::StereoFrontend fe(calibration(), config);
+  frontend::StereoVisualOdometry vo(fe.camera(), config.vo, fe.extractor().scales());
+  std::vector<double> fe_wall, fe_cpu, ex_wall, match_wall, vo_wall, vo_cpu;
+  for (const Pair& p : frames()) {
+    const double c0 = thread_cpu_ms();
+    Stopwatch sw;
+    const frontend::StereoFrameFeatures f = fe.process(p.left, p.right);
+    fe_wall.push_back(sw.elapsed_ms());
+    fe_cpu.push_back(thread_cpu_ms() - c0);
+    ex_wall.push_back(f.extract_ms);
+    match_wall.push_back(f.match_ms);
+    const double c1 = thread_cpu_ms();
+    const frontend::VoEstimate e = vo.track(f);
+    vo_cpu.push_back(thread_cpu_ms() - c1);
+    vo_wall.push_back(e.ms);
+  }
+  std::printf("%s, %zu frames:\n", parallel ? "left/right extraction in parallel (2 threads)" : "one core",
+              frames().size());
+  print_stage("frontend wall (extract + match)", fe_wall);
+  if (!parallel) print_stage("frontend CPU time", fe_cpu);
+  print_stage("  ORB extraction, both images wall", ex_wall);
+  print_stage("  stereo matching wall", match_wall);
+  print_stage("VO wall", vo_wall);
+  print_stage("VO CPU time", vo_cpu);
+}
+
+void BM_OrbExtractOneImage(benchmark::State& state) {
+  const frontend::OrbExtractor ex(frontend::OrbConfig{});
+  const cv::Mat& img = frames()[50].left;
+  for (auto _ : state) benchmark::DoNotOptimize(ex.extract(img));
+}
+BENCHMARK(BM_OrbExtractOneImage)->Unit(benchmark::kMillisecond);
+
+void BM_StereoFrontend(benchmark::State& state) {
+  frontend::FrontendConfig config;
+  config.orb.parallel = state.range(0) != 0;
+  const frontend::StereoFrontend fe(calibration(), config);
+  for (auto _ : state) benchmark::DoNotOptimize(fe.process(frames()[50].left, frames()[50].right));
+}
+BENCHMARK(BM_StereoFrontend)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+void BM_StereoMatching(benchmark::State& state) {
+  const frontend::FrontendConfig config;
+  const frontend::StereoFrontend fe(calibration(), config);
+  const frontend::StereoFrameFeatures f = fe.process(frames()[50].left, frames()[50].right);
+  const frontend::StereoMatcher matcher(fe.camera(), config.stereo, fe.extractor().scales());
+  std::vector<int> l2m;
+  for (auto _ : state) benchmark::DoNotOptimize(matcher.match(f.left, f.right, &l2m));
+}
+BENCHMARK(BM_StereoMatching)->Unit(benchmark::kMillisecond);
+
+void BM_VoTrack(benchmark::State& state) {
+  const frontend::FrontendConfig config;
+  const frontend::StereoFrontend fe(calibration(), config);
+  const frontend::StereoFrameFeatures a = fe.process(frames()[50].left, frames()[50].right);
+  const frontend::StereoFrameFeatures b = fe.process(frames()[51].left, frames()[51].right);
+  for (auto _ : state) {
+    state.PauseTiming();
+    frontend::StereoVisualOdometry vo(fe.camera(), config.vo, fe.extractor().scales());
+    vo.track(a);
+    state.ResumeTiming();
+    benchmark::DoNotOptimize(vo.track(b));
+  }
+}
+BENCHMARK(BM_VoTrack)->Unit(benchmark::kMillisecond);
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  benchmark::Initialize(&argc, argv);
+  spdlog::set_level(spdlog::level::warn);
+  cv::setNumThreads(1);
+  if (frames().empty()) {
+    std::printf("KITTI raw drive 0001 not found under %s; set GLMBSLAM_DATA\n", drive_dir().string().c_str());
+    return 0;
+  }
+  per_stage_report(false);
+  per_stage_report(true);
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}

@@ -1,0 +1,56 @@
+#include <filesystem>
+
+#include <gtest/gtest.h>
+
+#include "core/error.hpp"
+#include "frontend/frontend_config.hpp"
+#include "support/test_data.hpp"
+
+namespace glmbslam::frontend {
+namespace {
+
+TEST(FrontendConfig, ReadsValuesAndKeepsDefaults) {
+  ConfigNode node = ConfigNode::parse("orb: {features: 1000, levels: 4}\nvo: {min_inliers: 30}\n", "test");
+  const FrontendConfig c = load_frontend_config(node);
+  EXPECT_EQ(c.orb.features, 1000);
+  EXPECT_EQ(c.orb.levels, 4);
+  EXPECT_DOUBLE_EQ(c.orb.scale_factor, 1.2);
+  EXPECT_EQ(c.vo.min_inliers, 30);
+  EXPECT_EQ(c.stereo.max_hamming, StereoMatchConfig{}.max_hamming);
+}
+
+TEST(FrontendConfig, UnknownKeyAndBadRangeAreErrors) {
+  ConfigNode typo = ConfigNode::parse("orb: {featurs: 1000}\n", "test");
+  EXPECT_THROW(load_frontend_config(typo), ConfigError);
+  ConfigNode top = ConfigNode::parse("orbb: {}\n", "test");
+  EXPECT_THROW(load_frontend_config(top), ConfigError);
+  ConfigNode range = ConfigNode::parse("stereo: {min_depth_m: 50, max_depth_m: 10}\n", "test");
+  EXPECT_THROW(load_frontend_config(range), ConfigError);
+  ConfigNode type = ConfigNode::parse("vo: {ratio: fast}\n", "test");
+  EXPECT_THROW(load_frontend_config(type), ConfigError);
+}
+
+// config/frontend_defaults.yaml documents every key with the values in code.
+TEST(FrontendConfig, DefaultsFileMatchesCode) {
+  const auto path = std::filesystem::path(GLMBSLAM_SOURCE_DIR) / "config" / "frontend_defaults.yaml";
+  ASSERT_TRUE(std::filesystem::exists(path)) << path;
+  ConfigNode root = ConfigNode::load_file(path.string());
+  ConfigNode node = root.child("frontend");
+  const FrontendConfig c = load_frontend_config(node);
+  root.finish();
+  const FrontendConfig d;
+  EXPECT_EQ(c.orb.features, d.orb.features);
+  EXPECT_EQ(c.orb.levels, d.orb.levels);
+  EXPECT_DOUBLE_EQ(c.orb.scale_factor, d.orb.scale_factor);
+  EXPECT_EQ(c.orb.cell_size, d.orb.cell_size);
+  EXPECT_DOUBLE_EQ(c.stereo.max_depth_m, d.stereo.max_depth_m);
+  EXPECT_DOUBLE_EQ(c.stereo.pixel_sigma, d.stereo.pixel_sigma);
+  EXPECT_EQ(c.stereo.max_hamming, d.stereo.max_hamming);
+  EXPECT_DOUBLE_EQ(c.vo.search_radius_px, d.vo.search_radius_px);
+  EXPECT_DOUBLE_EQ(c.vo.huber_delta, d.vo.huber_delta);
+  EXPECT_EQ(c.vo.min_inliers, d.vo.min_inliers);
+  EXPECT_DOUBLE_EQ(c.vo.fallback_sigma_translation_m, d.vo.fallback_sigma_translation_m);
+}
+
+}  // namespace
+}  // namespace glmbslam::frontend
