@@ -85,6 +85,14 @@ std::vector<int> png_parameters(int level) {
           cv::IMWRITE_PNG_STRATEGY_HUFFMAN_ONLY};
 }
 
+PoseList relative_to_first_exact(const PoseList& poses) {
+  PoseList out = poses;
+  if (poses.empty()) return out;
+  const Eigen::Matrix4d inv0 = poses.front().matrix().inverse();
+  for (Pose3& T : out) T.matrix() = inv0 * T.matrix();
+  return out;
+}
+
 StereoCalibration named_kitti_calibration(const std::string& name) {
   if (name == "kitti00-02") return make_calibration(718.856, 607.1928, 185.2157, 386.1448, 1241, 376);
   if (name == "kitti03") return make_calibration(721.5377, 609.5593, 172.854, 387.5744, 1242, 375);
@@ -265,7 +273,7 @@ SequenceRenderSummary render_kitti_sequence(const SequenceRenderOptions& options
     });
     PoseList used(trajectory.begin() + static_cast<std::ptrdiff_t>(range.begin),
                   trajectory.begin() + static_cast<std::ptrdiff_t>(range.end));
-    io::write_kitti_poses(summary.poses_file.string(), io::relative_to_first(used));
+    io::write_kitti_poses(summary.poses_file.string(), relative_to_first_exact(used));
     // Swap the complete folder in.
     const fs::path old_dir =
         sequences / (options.sequence + ".old." + std::to_string(static_cast<long>(::getpid())));

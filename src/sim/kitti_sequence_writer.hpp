@@ -34,6 +34,11 @@ struct FrameRange {
 /// Throws InputError naming `source` (the pose file) if the range is empty or outside [0, count).
 FrameRange parse_frame_range(const std::string& text, std::size_t count, const std::string& source);
 
+/// T_0^{-1}·T_i with the exact 4×4 inverse (not the rigid-transform inverse), so the first pose is the
+/// identity to rounding even when the input rotations are orthonormal only to a few 1e-7 (KITTI files):
+/// readers that re-express poses relative to the first then leave them unchanged.
+PoseList relative_to_first_exact(const PoseList& poses);
+
 /// OpenCV PNG parameters for a zlib level 0–9 (level ≥ 1 uses Huffman-only coding: on noisy rendered images
 /// it is faster and smaller than the default strategy).
 std::vector<int> png_parameters(int level);
