@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
+#include <stdexcept>
 #include <vector>
 
 #include "backend/phd/gm_phd_map.hpp"
@@ -63,6 +64,19 @@ class PhdSlam {
     auto empty = std::make_shared<const Map>();
     const double log_w = -std::log(static_cast<double>(config.particles));
     particles_.assign(static_cast<std::size_t>(config.particles), Particle{log_w, root, empty});
+    best_ = particles_[0];
+  }
+
+  /// Optional, before the first step: the measurement set Z_0 taken at the (known) initial pose. It updates
+  /// the common initial map (so its measurements become birth components for step 1), anchoring the map to
+  /// the initial pose. Throws InputError on a non-finite measurement, std::logic_error after step().
+  void initial_scan(const MeasurementSet& Z) {
+    if (step_ != 0) throw std::logic_error("PhdSlam::initial_scan must be called before the first step");
+    updater_.validate(Z, 0);
+    auto map = std::make_shared<Map>();
+    updater_.update(*particles_[0].map, particles_[0].trajectory->pose, Z, *map);
+    std::shared_ptr<const Map> shared = std::move(map);
+    for (auto& p : particles_) p.map = shared;
     best_ = particles_[0];
   }
 

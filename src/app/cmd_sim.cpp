@@ -12,9 +12,10 @@ void register_sim_command(CLI::App& app) {
   auto* cmd =
       app.add_subcommand("sim", "Monte Carlo runs of the 2D simulations (paper 000, paper 003 benchmark)");
   cmd->add_option("--scenario", options->scenario, "paper2019 or phdslam3")->capture_default_str();
-  cmd->add_option(
-         "--algorithm", options->algorithm,
-         "glmb2 (δ-GLMB-SLAM 2.0), glmb1 (1.0), glmb_mh (multi-hypothesis proposal), phd1 (RB-PHD-SLAM 1.0)")
+  cmd->add_option("--algorithm", options->algorithm,
+                  "glmb2 (δ-GLMB-SLAM 2.0), glmb1 (1.0), glmb_mh (multi-hypothesis proposal), phd1 "
+                  "(RB-PHD-SLAM 1.0), dr "
+                  "(dead reckoning)")
       ->capture_default_str();
   cmd->add_option("--particles", options->particles, "particles per filter")->capture_default_str();
   cmd->add_option("--runs", options->runs, "Monte Carlo runs (run in parallel)")->capture_default_str();

@@ -91,7 +91,8 @@ RunRecord drive(Slam& slam, const sim::Scenario2D& s, const std::vector<std::vec
                 bool per_step_ospa, int particles) {
   RunRecord rec;
   rec.estimates.push_back(s.poses[0]);
-  typename Slam::MeasurementSet z;
+  typename Slam::MeasurementSet z(s.measurements[0].begin(), s.measurements[0].end());
+  slam.initial_scan(z);  // Z_0 at the known initial pose: births for step 1, anchoring the map
   for (std::size_t k = 1; k < s.steps(); ++k) {
     z.assign(s.measurements[k].begin(), s.measurements[k].end());
     slam.step(s.controls[k], z);
@@ -115,6 +116,36 @@ RunRecord drive(Slam& slam, const sim::Scenario2D& s, const std::vector<std::vec
   return rec;
 }
 
+/// Dead reckoning (the floor): the odometry integrated with the motion model, no map.
+template <class Motion>
+class DeadReckoning {
+ public:
+  using MeasurementSet = std::vector<Eigen::Vector2d, Eigen::aligned_allocator<Eigen::Vector2d>>;
+  struct Report {
+    double ess = 1.0;
+    bool resampled = false;
+    double ms = 0.0;
+  };
+  struct Landmark {
+    Eigen::Vector2d mean;
+  };
+  DeadReckoning(const Motion& motion, const Eigen::Vector3d& x0) : motion_(motion), x_(x0) {}
+  void initial_scan(const MeasurementSet&) {}
+  void step(const typename Motion::Control& u, const MeasurementSet&) {
+    Stopwatch w;
+    x_ = motion_.predict(x_, u);
+    report_.ms = w.elapsed_ms();
+  }
+  const Eigen::Vector3d& pose() const { return x_; }
+  const Report& last_report() const { return report_; }
+  std::vector<Landmark> landmarks() const { return {}; }
+
+ private:
+  Motion motion_;
+  Eigen::Vector3d x_;
+  Report report_;
+};
+
 struct Filters {
   backend::RbpfConfig rbpf;
   backend::PhdConfig phd;
@@ -125,6 +156,10 @@ RunRecord run_filter(const Motion& motion, const RangeBearingModel& model, const
                      const SimOptions& o, Filters f, int run, const std::vector<std::vector<int>>& seen) {
   const std::uint64_t seed = o.seed * 1000003ULL + static_cast<std::uint64_t>(run);
   const bool ospa_steps = o.scenario == "paper2019";
+  if (o.algorithm == "dr") {
+    DeadReckoning<Motion> dr(motion, s.initial_pose());
+    return drive(dr, s, seen, ospa_steps, 1);
+  }
   if (o.algorithm == "phd1") {
     f.phd.particles = o.particles;
     f.phd.seed = seed;
@@ -165,6 +200,7 @@ RunRecord run_one(const sim::Scenario2D& s, const SimOptions& o, const Filters& 
   mc.dt = s.dt;
   mc.sigma_v = std::sqrt(s.control_noise(0, 0));
   mc.sigma_omega = std::sqrt(s.control_noise(1, 1));
+  mc.euler = true;  // the phdslam3 ground truth is the Euler step (scenario2d.hpp)
   return run_filter(backend::UnicycleMotion(mc), model, s, o, f, run, seen);
 }
 
@@ -246,8 +282,9 @@ json run_simulation(const SimOptions& o) {
   if (o.scenario != "paper2019" && o.scenario != "phdslam3") {
     throw ConfigError("--scenario must be paper2019 or phdslam3, got '" + o.scenario + "'");
   }
-  if (o.algorithm != "glmb2" && o.algorithm != "glmb1" && o.algorithm != "phd1" && o.algorithm != "glmb_mh") {
-    throw ConfigError("--algorithm must be glmb2, glmb1, glmb_mh or phd1, got '" + o.algorithm + "'");
+  if (o.algorithm != "glmb2" && o.algorithm != "glmb1" && o.algorithm != "phd1" && o.algorithm != "glmb_mh" &&
+      o.algorithm != "dr") {
+    throw ConfigError("--algorithm must be glmb2, glmb1, glmb_mh, phd1 or dr, got '" + o.algorithm + "'");
   }
   if (o.particles < 1) throw ConfigError("--particles must be at least 1");
   if (o.runs < 1) throw ConfigError("--runs must be at least 1");

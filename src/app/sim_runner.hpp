@@ -17,7 +17,7 @@ namespace glmbslam::app {
 
 struct SimOptions {
   std::string scenario = "paper2019";  ///< paper2019 | phdslam3
-  std::string algorithm = "glmb2";     ///< glmb2 | glmb1 | phd1
+  std::string algorithm = "glmb2";     ///< glmb2 | glmb1 | glmb_mh | phd1 | dr
   int particles = 10;
   int runs = 1;
   double clutter = -1.0;      ///< λ_c (paper2019 only); < 0 = the scenario default (5)
