@@ -117,6 +117,7 @@ class GlmbSlam {
       const Particle& p = particles_[i];
       const State& x_prev = p.trajectory->pose;
       State x;
+      State x_estimate;
       double log_increment = 0.0;
       if (optimal) {
         thread_local typename OptimalProposal<Motion, Meas>::Result q;
@@ -124,6 +125,7 @@ class GlmbSlam {
         const Covariance P_pred = motion_.process_noise(x_prev, u);
         proposal_.build(*p.map, x_pred, P_pred, Z, rng, q);
         x = proposal_.sample(q, rng);
+        x_estimate = q.mean;
         if (paper) {
           log_increment = q.log_marginal;
         } else {
@@ -131,6 +133,7 @@ class GlmbSlam {
         }
       } else {
         x = motion_.sample(x_prev, u, rng);
+        x_estimate = x;
       }
       auto map = std::make_shared<Map>();
       const GlmbUpdateStats s = updater_.update(*p.map, x, Z, k, rng, *map);
@@ -138,7 +141,7 @@ class GlmbSlam {
       Particle& out = next_[i];
       out.log_weight = p.log_weight + log_increment;
       if (!std::isfinite(out.log_weight)) out.log_weight = kLogZero;
-      out.trajectory = std::make_shared<const Node>(x, k, p.trajectory);
+      out.trajectory = std::make_shared<const Node>(x, x_estimate, k, p.trajectory);
       out.map = std::move(map);
       stats_[i] = s;
     });
@@ -190,6 +193,10 @@ class GlmbSlam {
   const State& mean_pose() const { return step_ == 0 ? best_.trajectory->pose : weighted_mean_; }
   /// The highest-weight particle's trajectory, steps 0..k.
   PoseList trajectory() const { return best_.trajectory->poses(); }
+  /// The highest-weight particle's Rao–Blackwellised estimates, steps 0..k: at each step the mean of the
+  /// optimal-kernel proposal given that particle's history and map (its sampled pose for the prior proposal).
+  /// Free of the sampling noise of trajectory(), which the particle's map is conditioned on.
+  PoseList estimated_trajectory() const { return best_.trajectory->estimates(); }
   /// The highest-weight particle's map estimate (MAP cardinality, then its best hypothesis).
   LandmarkList landmarks() const { return estimate_map(*best_.map); }
   /// The highest-weight particle's map (all hypotheses).

@@ -33,6 +33,7 @@ void load_pipeline(ConfigNode node, PipelineSettings& c) {
   node.read("overlap_frontend", c.overlap_frontend);
   node.read("write_plots", c.write_plots);
   node.read_choice("algorithm", c.algorithm, {"glmb2", "glmb1", "vo"});
+  node.read_choice("trajectory_estimate", c.trajectory_estimate, {"proposal_mean", "sample"});
   node.finish();
 }
 

@@ -24,6 +24,8 @@ struct PipelineSettings {
   bool overlap_frontend = true;  ///< run the frontend of frame k+1 while the backend processes frame k
   bool write_plots = true;       ///< PNG plots next to metrics.json
   std::string algorithm = "glmb2";  ///< glmb2 (optimal proposal), glmb1 (prior proposal) or vo (no backend)
+  /// trajectory.txt holds the best particle's "proposal_mean" (Rao–Blackwellised estimate) or "sample" poses.
+  std::string trajectory_estimate = "proposal_mean";
 };
 
 struct StereoConfig {

@@ -125,10 +125,8 @@ int run_stereo(const RunOptions& options) {
   for (std::size_t k = 0; k < frames; ++k) {
     const std::size_t index = first + k;
     FrameWork work = ahead.valid() ? ahead.get() : process_frame(*dataset, fe, index);
-    if (k + 1 < frames) {
-      if (config.pipeline.overlap_frontend) {
-        ahead = std::async(std::launch::async, process_frame, std::cref(*dataset), std::cref(fe), index + 1);
-      }
+    if (k + 1 < frames && config.pipeline.overlap_frontend) {
+      ahead = std::async(std::launch::async, process_frame, std::cref(*dataset), std::cref(fe), index + 1);
     }
     record.frontend_ms.push_back(work.frontend_ms);
     frontend::VoEstimate est;
@@ -156,21 +154,24 @@ int run_stereo(const RunOptions& options) {
         Z.reserve(chosen.size());
         for (int i : chosen) Z.push_back(work.features.measurements[static_cast<std::size_t>(i)].z);
       }
-      backend::RelativePoseControl u;
-      u.delta = k == 0 ? Pose3::Identity() : est.relative_pose;
-      u.covariance = est.covariance;
       Stopwatch backend_watch;
-      filter.step(u, Z);
+      if (k == 0) {
+        filter.initial_scan(Z);  // the first frame's measurements anchor the map at the known initial pose
+      } else {
+        backend::RelativePoseControl u;
+        u.delta = est.relative_pose;
+        u.covariance = est.covariance;
+        filter.step(u, Z);
+      }
       record.backend_ms.push_back(backend_watch.elapsed_ms());
       const auto& rep = filter.last_report();
-      record.ess_fraction.push_back(rep.ess / static_cast<double>(config.rbpf.particles));
-      record.resampled.push_back(rep.resampled);
+      if (k > 0) {
+        record.ess_fraction.push_back(rep.ess / static_cast<double>(config.rbpf.particles));
+        record.resampled.push_back(rep.resampled);
+      }
       progress.update(k + 1,
                       "tracks " + std::to_string(rep.tracks) + " hyp " + std::to_string(rep.hypotheses));
     } else {
-      if (!ahead.valid() && k + 1 < frames && !config.pipeline.overlap_frontend) {
-        // nothing to overlap with
-      }
       progress.update(k + 1);
     }
   }
@@ -183,8 +184,10 @@ int run_stereo(const RunOptions& options) {
 
   // Outputs.
   if (use_backend) {
-    const auto path = filter.trajectory();  // step 0 (root) + one node per frame
-    record.slam_poses.assign(path.begin() + 1, path.end());
+    // step 0 is the first frame (identity), then one step per frame
+    const auto path =
+        config.pipeline.trajectory_estimate == "sample" ? filter.trajectory() : filter.estimated_trajectory();
+    record.slam_poses.assign(path.begin(), path.end());
     for (const auto& lm : filter.landmarks()) {
       record.map.push_back(io::MapPoint{lm.mean, pack_label(lm.label), std::clamp(lm.existence, 0.0, 1.0)});
     }
