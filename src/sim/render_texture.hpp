@@ -114,7 +114,7 @@ inline float albedo(const Surface& s, float a, float b, float fp) {
     case TextureKind::kConstant:
       break;
     case TextureKind::kGround: {
-      v += 0.5f * c * (2.0f * value_noise(a * 0.25f, b * 0.25f, s.seed) - 1.0f);
+      v += 0.25f * c * rect_layer(a, b, 4.1f, s.seed + 13U, 1.0f / fp);
       v += 0.9f * c * mondrian(a, b, 0.9f, s.seed + 11U, fp);
       break;
     }
