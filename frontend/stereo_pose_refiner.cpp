@@ -94,8 +94,10 @@ PoseRefinementResult refine_stereo_pose(const StereoCamera& camera, const std::v
   for (int round = 0; round < options.rounds; ++round) {
     ceres::Problem::Options po;
     po.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+    po.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+    Se3RightManifold manifold;                   // outlives `problem`, which does not own it
+    ceres::HuberLoss loss(options.huber_delta);  // one loss object shared by every residual
     ceres::Problem problem(po);
-    Se3RightManifold manifold;
     problem.AddParameterBlock(pose, 7, &manifold);
     int used = 0;
     for (std::size_t i = 0; i < n; ++i) {
@@ -104,14 +106,11 @@ PoseRefinementResult refine_stereo_pose(const StereoCamera& camera, const std::v
       double* x = &X[3 * i];
       Eigen::Map<Eigen::Vector3d> xm(x);
       xm = t.point_ref;  // every round restarts points from their triangulation
-      problem.AddResidualBlock(new ReferenceResidual(camera, t.z_ref, t.sigma_ref),
-                               new ceres::HuberLoss(options.huber_delta), x);
+      problem.AddResidualBlock(new ReferenceResidual(camera, t.z_ref, t.sigma_ref), &loss, x);
       if (t.cur_stereo) {
-        problem.AddResidualBlock(new CurrentResidual<3>(camera, t.z_cur, t.sigma_cur),
-                                 new ceres::HuberLoss(options.huber_delta), pose, x);
+        problem.AddResidualBlock(new CurrentResidual<3>(camera, t.z_cur, t.sigma_cur), &loss, pose, x);
       } else {
-        problem.AddResidualBlock(new CurrentResidual<2>(camera, t.z_cur, t.sigma_cur),
-                                 new ceres::HuberLoss(options.huber_delta), pose, x);
+        problem.AddResidualBlock(new CurrentResidual<2>(camera, t.z_cur, t.sigma_cur), &loss, pose, x);
       }
       ++used;
     }
@@ -126,7 +125,9 @@ PoseRefinementResult refine_stereo_pose(const StereoCamera& camera, const std::v
     ceres::Solve(so, &problem, &summary);
     if (!summary.IsSolutionUsable()) return result;
 
-    // χ² gate on each point's current and reference residuals at the solution.
+    // χ² gate on each point's current and reference residuals at the solution; another round only if it
+    // removed something.
+    int removed = 0;
     const Pose3 T = block_to_pose(pose);
     const Pose3 Tinv = T.inverse();
     for (std::size_t i = 0; i < n; ++i) {
@@ -136,14 +137,19 @@ PoseRefinementResult refine_stereo_pose(const StereoCamera& camera, const std::v
       const Eigen::Vector3d pc = Tinv * Xi;
       if (pc.z() <= 1e-6 || Xi.z() <= 1e-6) {
         result.inlier[i] = 0;
+        ++removed;
         continue;
       }
       const Eigen::Vector3d rr = (camera.project(Xi) - t.z_ref) / t.sigma_ref;
       const Eigen::Vector3d rc = (camera.project(pc) - t.z_cur) / t.sigma_cur;
       const double chi_c = t.cur_stereo ? rc.squaredNorm() : rc.head<2>().squaredNorm();
       const double gate_c = t.cur_stereo ? options.chi2_threshold : gate2;
-      if (chi_c > gate_c || rr.squaredNorm() > options.chi2_threshold) result.inlier[i] = 0;
+      if (chi_c > gate_c || rr.squaredNorm() > options.chi2_threshold) {
+        result.inlier[i] = 0;
+        ++removed;
+      }
     }
+    if (removed == 0) break;
   }
 
   // Information of the pose with the points marginalised (Schur complement), Huber weights at the solution.
