@@ -13,9 +13,10 @@ VictoriaParkConfig default_victoria_park_config() {
   c.rbpf.seed = 0;
   c.rbpf.proposal = "optimal";
   c.rbpf.resampling = "ess";
-  c.rbpf.ess_threshold = 0.5;
   c.rbpf.proposal_mixture = true;
   c.rbpf.glmb.gate_threshold = 41.4465;  // paper 003: χ² 1 − 1e-9
+  c.rbpf.ess_threshold = 0.1;  // ESS < 0.1·N: resample only on (near) degeneracy, like paper 003's T_ESS = 1
+  c.phd.resampling = "ess";
   return c;
 }
 
@@ -24,7 +25,7 @@ void load_victoria_park_config(const std::string& path, VictoriaParkConfig& conf
 }
 
 void load_victoria_park_config(ConfigNode node, VictoriaParkConfig& config) {
-  node.read_choice("algorithm", config.algorithm, {"glmb2", "glmb1", "glmb-mh", "deadreckoning"});
+  node.read_choice("algorithm", config.algorithm, {"glmb2", "glmb1", "glmb-mh", "phd1", "deadreckoning"});
   if (node.has("initial_pose")) {
     std::vector<double> p;
     node.read("initial_pose", p);
@@ -49,6 +50,7 @@ void load_victoria_park_config(ConfigNode node, VictoriaParkConfig& config) {
   backend::load_range_bearing_config(node.child("measurement"), config.measurement);
   backend::load_rbpf_config(node.child("rbpf"), config.rbpf);
   backend::load_mh_proposal_config(node.child("mh"), config.mh);
+  backend::load_phd_config(node.child("phd"), config.phd);
   node.finish();
 }
 

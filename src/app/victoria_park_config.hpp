@@ -7,6 +7,7 @@
 
 #include "backend/models/ackermann_motion.hpp"
 #include "backend/models/range_bearing_model.hpp"
+#include "backend/phd/phd_config.hpp"
 #include "backend/rbpf/mh_proposal_config.hpp"
 #include "backend/rbpf/rbpf_config.hpp"
 #include "io/victoria_park.hpp"
@@ -15,7 +16,7 @@ namespace glmbslam::app {
 
 struct VictoriaParkConfig {
   /// glmb2 (optimal proposal), glmb1 (prior proposal), glmb-mh (multi-hypothesis proposal),
-  /// deadreckoning (noise-free motion model)
+  /// phd1 (RB-PHD-SLAM 1.0, backend/phd), deadreckoning (noise-free motion model)
   std::string algorithm = "glmb2";
   Eigen::Vector3d initial_pose{-67.6493, -41.7142, 35.5 * M_PI / 180.0};  ///< laser (x, y, φ) at t_0
   bool skip_empty_scans = true;  ///< scans without a real detection in view are not filter steps
@@ -26,6 +27,7 @@ struct VictoriaParkConfig {
   backend::RangeBearingConfig measurement;
   backend::RbpfConfig rbpf;
   backend::MhProposalConfig mh;
+  backend::PhdConfig phd;  ///< phd1; particles and seed come from rbpf
   bool write_plot = true;
   int threads = 1;  ///< worker threads (0 = all cores); 1 = the published single-core protocol
 };

@@ -1,6 +1,6 @@
 // `glmbslam run PATH_TO_victoria_park/` (run_options.hpp): the Victoria Park benchmark of paper 003
 // (Sec. VI-B) with δ-GLMB-SLAM (glmb2 = optimal-kernel proposal, glmb1 = prior proposal, glmb-mh = the
-// multi-hypothesis importance density) or dead reckoning.
+// multi-hypothesis importance density), RB-PHD-SLAM 1.0 (phd1, backend/phd) or dead reckoning.
 //
 // Steps: one per laser scan of VictoriaParkSinSincronizar.mat (scans with no tree detection are skipped when
 // skip_empty_scans, as in the published protocol's code); the control of a step integrates the 40 Hz odometry
@@ -36,6 +36,7 @@
 #include "app/victoria_park_mh_filter.hpp"
 #include "backend/models/ackermann_motion.hpp"
 #include "backend/models/victoria_park_measurement.hpp"
+#include "backend/phd/phd_slam.hpp"
 #include "backend/rbpf/glmb_slam.hpp"
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
@@ -75,6 +76,13 @@ class DeadReckoning {
   Report report_;
 };
 
+double landmark_existence(const backend::LandmarkEstimate<Meas>& l) {
+  return l.existence;
+}
+double landmark_existence(const backend::GmPhdComponent<Meas>& c) {
+  return c.weight;
+}
+
 struct RunRecord {
   std::vector<Motion::State, Eigen::aligned_allocator<Motion::State>> poses;
   std::vector<double> ms, ess;
@@ -106,7 +114,7 @@ RunRecord run_filter(Filter& filter, const std::vector<Motion::Control>& control
     io::MapPoint p;
     p.position = Eigen::Vector3d(l.mean(0), l.mean(1), 0.0);
     p.label = index++;
-    p.existence = std::clamp(l.existence, 0.0, 1.0);
+    p.existence = std::clamp(landmark_existence(l), 0.0, 1.0);
     rec.map.push_back(p);
   }
   return rec;
@@ -215,10 +223,13 @@ int run_victoria_park(const RunOptions& options) {
   }
   if (options.seed) cfg.rbpf.seed = *options.seed;
   if (options.algorithm) {
-    const std::string& a = *options.algorithm;
-    if (a != "glmb2" && a != "glmb1" && a != "glmb-mh" && a != "deadreckoning")
+    std::string a = *options.algorithm;
+    if (a == "glmb_mh") a = "glmb-mh";  // the spelling of `glmbslam sim`
+    if (a == "dr") a = "deadreckoning";
+    if (a != "glmb2" && a != "glmb1" && a != "glmb-mh" && a != "phd1" && a != "deadreckoning")
       throw ConfigError(
-          "--algorithm for Victoria Park must be glmb2, glmb1, glmb-mh or deadreckoning (got '" + a + "')");
+          "--algorithm for Victoria Park must be glmb2, glmb1, glmb-mh, phd1 or deadreckoning (got '" + a +
+          "')");
     cfg.algorithm = a;
   }
   if (options.first_frame != 0)
@@ -257,6 +268,13 @@ int run_victoria_park(const RunOptions& options) {
   if (cfg.algorithm == "deadreckoning") {
     DeadReckoning f(motion, cfg.initial_pose);
     rec = run_filter(f, controls, measurements, 1);
+  } else if (cfg.algorithm == "phd1") {
+    backend::PhdConfig phd = cfg.phd;
+    phd.particles = cfg.rbpf.particles;
+    phd.seed = cfg.rbpf.seed;
+    backend::validate_phd_config(phd);
+    backend::PhdSlam<Motion, Meas> f(motion, model, phd, cfg.initial_pose);
+    rec = run_filter(f, controls, measurements, phd.particles);
   } else if (cfg.algorithm == "glmb-mh") {
     GlmbMhSlam<Motion, Meas> f(motion, model, cfg.rbpf, cfg.mh, cfg.initial_pose);
     rec = run_filter(f, controls, measurements, cfg.rbpf.particles);
