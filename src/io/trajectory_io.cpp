@@ -7,31 +7,15 @@
 
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
+#include "io/kitti_common.hpp"
 
 namespace glmbslam::io {
 namespace {
 
-std::string where(const std::string& path, std::size_t line) {
-  return path + ":" + std::to_string(line);
-}
+using detail::is_blank_line;
+using detail::parse_number_list;
 
-/// Splits a line into numbers; returns false if a token is not a number.
-bool parse_numbers(const std::string& line, std::vector<double>& out) {
-  out.clear();
-  std::istringstream ss(line);
-  std::string tok;
-  while (ss >> tok) {
-    char* end = nullptr;
-    const double v = std::strtod(tok.c_str(), &end);
-    if (end == tok.c_str() || *end != '\0') return false;
-    out.push_back(v);
-  }
-  return true;
-}
-
-bool is_blank(const std::string& line) {
-  return line.find_first_not_of(" \t\r") == std::string::npos;
-}
+std::string where(const std::string& path, std::size_t line) { return detail::file_line(path, line); }
 
 }  // namespace
 
@@ -50,8 +34,8 @@ PoseList read_kitti_poses(const std::string& path) {
   std::size_t n = 0;
   while (std::getline(in, line)) {
     ++n;
-    if (is_blank(line)) continue;
-    if (!parse_numbers(line, v))
+    if (is_blank_line(line)) continue;
+    if (!parse_number_list(line, v))
       throw InputError(where(path, n), "pose line contains a token that is not a number");
     if (v.size() != 12) {
       throw InputError(where(path, n), "pose line has " + std::to_string(v.size()) + " numbers, expected 12");
@@ -84,8 +68,8 @@ Trajectory read_tum_trajectory(const std::string& path) {
   std::size_t n = 0;
   while (std::getline(in, line)) {
     ++n;
-    if (is_blank(line) || line[line.find_first_not_of(" \t")] == '#') continue;
-    if (!parse_numbers(line, v))
+    if (is_blank_line(line) || line[line.find_first_not_of(" \t")] == '#') continue;
+    if (!parse_number_list(line, v))
       throw InputError(where(path, n), "line contains a token that is not a number");
     if (v.size() != 8) {
       throw InputError(where(path, n), "TUM line has " + std::to_string(v.size()) + " numbers, expected 8");
