@@ -1,8 +1,10 @@
-// End to end: `glmbslam run` on a short rendered stereo sequence (frontend → VO → δ-GLMB-SLAM 2.0), its outputs,
-// the accuracy of the trajectory and the map, graceful handling of bad frames, and bad input.
+// End to end: `glmbslam run` on a short rendered stereo sequence (frontend → VO → δ-GLMB-SLAM 2.0), its
+// outputs, the accuracy of the trajectory and the map, graceful handling of bad frames, and bad input.
 #include <filesystem>
 #include <fstream>
 #include <string>
+
+#include <unistd.h>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -27,17 +29,31 @@ constexpr std::size_t kFrames = 40;
 /// One short rendered sequence (built-in trajectory, with depth) shared by the tests of this file.
 class StereoRun : public ::testing::Test {
  protected:
+  // ctest runs each test in its own process, possibly concurrently: the clip is rendered once into a shared
+  // cache folder (render into a private folder, then rename, so no process sees a half-written clip), and
+  // every process writes its outputs under its own folder.
   static void SetUpTestSuite() {
     ProgressReporter::set_enabled(false);
-    root_ = fs::temp_directory_path() / "glmbslam_test_stereo_run";
+    clip_ = fs::temp_directory_path() / "glmbslam_test_stereo_clip_v1";
+    root_ = fs::temp_directory_path() / ("glmbslam_test_stereo_run_" + std::to_string(::getpid()));
     fs::remove_all(root_);
-    sim::SequenceRenderOptions o;
-    o.out_dir = (root_ / "synthetic").string();
-    o.frames = "0:" + std::to_string(kFrames);
-    o.depth = true;
-    sim::render_kitti_sequence(o);
+    fs::create_directories(root_);
+    if (!fs::exists(clip_ / "poses" / "00.txt")) {
+      const fs::path mine =
+          fs::temp_directory_path() / ("glmbslam_test_stereo_clip_" + std::to_string(::getpid()));
+      fs::remove_all(mine);
+      sim::SequenceRenderOptions o;
+      o.out_dir = mine.string();
+      o.frames = "0:" + std::to_string(kFrames);
+      o.depth = true;
+      sim::render_kitti_sequence(o);
+      std::error_code ec;
+      fs::rename(mine, clip_, ec);  // fails if another process got there first: use theirs
+      if (ec) fs::remove_all(mine);
+    }
   }
-  static fs::path sequence() { return root_ / "synthetic" / "sequences" / "00"; }
+  static void TearDownTestSuite() { fs::remove_all(root_); }
+  static fs::path sequence() { return clip_ / "sequences" / "00"; }
   static RunOptions options(const std::string& out) {
     RunOptions o;
     o.dataset = sequence().string();
@@ -53,14 +69,17 @@ class StereoRun : public ::testing::Test {
     return n;
   }
   static fs::path root_;
+  static fs::path clip_;
 };
 fs::path StereoRun::root_;
+fs::path StereoRun::clip_;
 
 TEST_F(StereoRun, WritesEveryOutputAndBeatsBoundsFromTheRendererNoise) {
   const RunOptions o = options("run");
   ASSERT_EQ(run_stereo(o), 0);
   const fs::path out(o.out_dir);
-  for (const char* f : {"trajectory.txt", "vo_trajectory.txt", "map.pcd", "metrics.json", "config_used.yaml"}) {
+  for (const char* f :
+       {"trajectory.txt", "vo_trajectory.txt", "map.pcd", "metrics.json", "config_used.yaml"}) {
     EXPECT_TRUE(fs::exists(out / f)) << f;
   }
   EXPECT_TRUE(fs::exists(out / "plots" / "map_top.png"));
@@ -85,7 +104,7 @@ TEST_F(StereoRun, WritesEveryOutputAndBeatsBoundsFromTheRendererNoise) {
   // The map's landmarks lie on the rendered surfaces: compare each landmark's depth in the first frame whose
   // depth map sees it with the true depth at its pixel.
   const auto map = io::read_pcd_map((out / "map.pcd").string());
-  const auto gt = io::read_kitti_poses((root_ / "synthetic" / "poses" / "00.txt").string());
+  const auto gt = io::read_kitti_poses((clip_ / "poses" / "00.txt").string());
   const double fx = 718.856, cx = 607.1928, cy = 185.2157;
   std::vector<double> errors;
   for (const auto& p : map) {
@@ -106,8 +125,8 @@ TEST_F(StereoRun, WritesEveryOutputAndBeatsBoundsFromTheRendererNoise) {
   }
   ASSERT_GT(errors.size(), 50u);
   std::nth_element(errors.begin(), errors.begin() + errors.size() / 2, errors.end());
-  // A single stereo observation at the median landmark depth (~10 m) has a depth σ of z²/(f·b)·√2 px ≈ 0.37 m;
-  // landmarks are seen many times, so their median error must be below that.
+  // A single stereo observation at the median landmark depth (~10 m) has a depth σ of z²/(f·b)·√2 px ≈ 0.37
+  // m; landmarks are seen many times, so their median error must be below that.
   EXPECT_LT(errors[errors.size() / 2], 0.37);
 }
 
