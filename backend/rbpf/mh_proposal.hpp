@@ -19,10 +19,12 @@
 //  4. Per assignment t: moments (μ^t, Σ^t) by iterated posterior linearisation with the partitioned update
 //     (digest 2.5 Algorithm 1, first-order SLR; L = ipl_iterations, stop when KL < ipl_tolerance); the all-
 //     clutter component keeps the prior (x̄, P̄).
-//  5. Component weights (Eq. 44, Bernoulli form as in 2.):
+//  5. Component weights (Eq. 44, Bernoulli form as in 2.; weights "eq44", the default):
 //       log κ^t = Σ_{i missed} log(1 − η_i p_D^i) + Σ_{i→j} [log(η_i p_D^i) − log κ(z_j)
 //                 + log N(z_j; h(m̂_i, μ^t), G_x Σ^t G_xᵀ + G_m P_i G_mᵀ + R)]   (G_x, ẑ at μ^t)
-//     normalised with log-sum-exp (they sum to one).
+//     normalised with log-sum-exp (they sum to one). Option weights "prior_predictive": log κ^t = log γ^t,
+//     the ranked assignment's weight from 2. at x̄ (plus the miss terms of the landmarks left out of the
+//     ranking).
 // sample: t ~ Categorical(κ̃), then x ~ N(μ^t, Σ^t) (retracted on the pose manifold); log_density is the full
 // mixture log Σ_t κ̃^t N(x; μ^t, Σ^t), so the importance weight w·Ĝ(x)·f(x|x⁻,u)/q(x) uses the mixture (Eq.
 // 45). build() draws no random numbers: its result depends only on (map, x̄, P̄, Z), so particles that share a
@@ -208,7 +210,15 @@ class MhProposal {
         } else {
           ipl_partitioned_update<Motion, Meas>(model_, x_pred, P_pred, ws.pairs, config_.ipl_iterations,
                                                config_.ipl_tolerance, comp.mean, comp.cov);
-          comp.log_weight = component_log_weight(comp.mean, comp.cov, ws);
+          if (config_.weights == "prior_predictive") {
+            ws.detected.assign(ws.lm.size(), 0);
+            for (std::size_t r = 0; r < ws.rows.size(); ++r) ws.detected[ws.rows[r]] = 1;
+            comp.log_weight = h.log_weight;  // Σ log ℓ over the ranked rows (at x̄, pose-marginal S)
+            for (int i = 0; i < M; ++i)
+              if (!ws.detected[i]) comp.log_weight += ws.lm[i].log_miss;
+          } else {
+            comp.log_weight = component_log_weight(comp.mean, comp.cov, ws);
+          }
         }
         if (comp.log_weight == kLogZero || !std::isfinite(comp.log_weight)) continue;
         out.components.push_back(comp);

@@ -1,5 +1,7 @@
 #pragma once
 // Settings of the multi-hypothesis importance density (mh_proposal.hpp; paper 003 Sec. VI, digest 2.6).
+#include <string>
+
 #include "core/config_node.hpp"
 
 namespace glmbslam::backend {
@@ -11,6 +13,10 @@ struct MhProposalConfig {
   double ipl_tolerance = 1e-3;      ///< ε: KL divergence between successive iterates that stops the IPL
   double gate_threshold = 41.4465;  ///< χ² gate on the pose-marginal innovation (1 − 1e-9 quantile, 2 dof)
   double fov_margin_sigmas = 3.0;   ///< margin (× position std of P̄) of the in-view landmark query
+  /// Component weights: "eq44" (paper 003 Eq. 44: likelihoods at each component's posterior moments) or
+  /// "prior_predictive" (the ranked assignment's own weight γ^t at x̄ with the pose-marginal innovation, i.e.
+  /// Eq. 36–38 evaluated at the predicted pose; penalises assignments that need a large pose correction).
+  std::string weights = "eq44";
 };
 
 /// Loads the keys above (member names). Unknown keys are errors.

@@ -164,6 +164,20 @@ TEST(MhProposal, AllClutterComponentIsAlwaysPresentAndWeightsSumToOne) {
   EXPECT_GE(q.ranked, 3);
   EXPECT_EQ(all_clutter_components(q, x_pred, P), 1);
   EXPECT_NEAR(weight_sum(q), 1.0, 1e-12);
+  // the prior-predictive weighting: the ranked weights γ^t themselves, normalised, same components
+  MhProposalConfig pp;
+  pp.weights = "prior_predictive";
+  const Proposal proposal_pp(UnicycleMotion{}, model, pp);
+  Proposal::Result q_pp;
+  proposal_pp.build(map_with(lms), x_pred, P, Zamb, rng, q_pp);
+  ASSERT_EQ(q_pp.components.size(), q.components.size());
+  EXPECT_EQ(all_clutter_components(q_pp, x_pred, P), 1);
+  EXPECT_NEAR(weight_sum(q_pp), 1.0, 1e-12);
+  for (std::size_t c = 1; c < q_pp.components.size(); ++c) {  // Murty order: non-increasing γ
+    if (q_pp.components[c].detections > 0 && q_pp.components[c - 1].detections > 0) {
+      EXPECT_LE(q_pp.components[c].log_weight, q_pp.components[c - 1].log_weight + 1e-12);
+    }
+  }
 }
 
 TEST(MhProposal, ComponentWeightsFollowEq44WithTheLabelExistence) {
@@ -230,6 +244,9 @@ TEST(MhProposal, ConfigLoaderRejectsUnknownKeys) {
   EXPECT_DOUBLE_EQ(c.assignment_ratio, 0.01);
   EXPECT_EQ(c.ipl_iterations, 3);
   EXPECT_THROW(load_mh_proposal_config(ConfigNode::parse("max_assignment: 10\n", "t"), c), ConfigError);
+  load_mh_proposal_config(ConfigNode::parse("weights: prior_predictive\n", "t"), c);
+  EXPECT_EQ(c.weights, "prior_predictive");
+  EXPECT_THROW(load_mh_proposal_config(ConfigNode::parse("weights: posterior\n", "t"), c), ConfigError);
 }
 
 }  // namespace
