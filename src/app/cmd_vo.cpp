@@ -27,6 +27,7 @@
 #include "core/config_node.hpp"
 #include "core/error.hpp"
 #include "core/lie.hpp"
+#include "core/progress.hpp"
 #include "core/stopwatch.hpp"
 #include "eval/report.hpp"
 #include "frontend/frontend_config.hpp"
@@ -150,7 +151,9 @@ void run_vo(const VoArgs& a) {
   std::size_t loaded = 0;
   bool png_written = false;
   Stopwatch all;
+  ProgressReporter progress(last - first, "vo");
   for (std::size_t i = first; i < last; ++i) {
+    progress.update(i - first);
     Stopwatch sw;
     std::optional<io::StereoFrame> frame;
     try {
@@ -187,6 +190,7 @@ void run_vo(const VoArgs& a) {
     spdlog::debug("vo: frame {}: {} measurements, {} matches, {} inliers, {}", i, measurements, est.matches,
                   est.inliers, frontend::to_string(est.status));
   }
+  progress.finish();
   const double wall_s = all.elapsed_ms() / 1000.0;
   if (loaded == 0) throw InputError(a.dataset, "no frame of the range could be loaded");
 
