@@ -1,0 +1,94 @@
+// The shipped stereo configs parse and document exactly the built-in defaults; bad keys are errors.
+#include <filesystem>
+
+#include <gtest/gtest.h>
+#include <yaml-cpp/yaml.h>
+
+#include "app/stereo_config.hpp"
+#include "core/error.hpp"
+
+namespace glmbslam::app {
+namespace {
+
+void expect_same(const StereoConfig& a, const StereoConfig& b, const std::string& file) {
+  SCOPED_TRACE(file);
+  EXPECT_EQ(a.frontend.orb.features, b.frontend.orb.features);
+  EXPECT_EQ(a.frontend.stereo.max_depth_m, b.frontend.stereo.max_depth_m);
+  EXPECT_EQ(a.frontend.vo.min_inliers, b.frontend.vo.min_inliers);
+  EXPECT_EQ(a.motion.covariance_inflation, b.motion.covariance_inflation);
+  EXPECT_EQ(a.motion.min_sigma_translation, b.motion.min_sigma_translation);
+  EXPECT_EQ(a.motion.min_sigma_rotation, b.motion.min_sigma_rotation);
+  EXPECT_EQ(a.measurement.pixel_sigma, b.measurement.pixel_sigma);
+  EXPECT_EQ(a.measurement.min_depth, b.measurement.min_depth);
+  EXPECT_EQ(a.measurement.max_depth, b.measurement.max_depth);
+  EXPECT_EQ(a.measurement.border, b.measurement.border);
+  EXPECT_EQ(a.measurement.p_detect_inside, b.measurement.p_detect_inside);
+  EXPECT_EQ(a.measurement.p_survive_inside, b.measurement.p_survive_inside);
+  EXPECT_EQ(a.measurement.p_survive_outside, b.measurement.p_survive_outside);
+  EXPECT_EQ(a.measurement.clutter_rate, b.measurement.clutter_rate);
+  EXPECT_EQ(a.rbpf.particles, b.rbpf.particles);
+  EXPECT_EQ(a.rbpf.seed, b.rbpf.seed);
+  EXPECT_EQ(a.rbpf.proposal, b.rbpf.proposal);
+  EXPECT_EQ(a.rbpf.weighting, b.rbpf.weighting);
+  EXPECT_EQ(a.rbpf.resampling, b.rbpf.resampling);
+  EXPECT_EQ(a.rbpf.ess_threshold, b.rbpf.ess_threshold);
+  EXPECT_EQ(a.rbpf.proposal_mixture, b.rbpf.proposal_mixture);
+  EXPECT_EQ(a.rbpf.proposal_hypotheses, b.rbpf.proposal_hypotheses);
+  EXPECT_EQ(a.rbpf.proposal_min_weight, b.rbpf.proposal_min_weight);
+  EXPECT_EQ(a.rbpf.proposal_gibbs_samples, b.rbpf.proposal_gibbs_samples);
+  EXPECT_EQ(a.rbpf.proposal_max_components, b.rbpf.proposal_max_components);
+  EXPECT_EQ(a.rbpf.ipl_iterations, b.rbpf.ipl_iterations);
+  EXPECT_EQ(a.rbpf.ipl_tolerance, b.rbpf.ipl_tolerance);
+  EXPECT_EQ(a.rbpf.glmb.birth_prob_unexplained, b.rbpf.glmb.birth_prob_unexplained);
+  EXPECT_EQ(a.rbpf.glmb.birth_prob_explained, b.rbpf.glmb.birth_prob_explained);
+  EXPECT_EQ(a.rbpf.glmb.births, b.rbpf.glmb.births);
+  EXPECT_EQ(a.rbpf.glmb.gate_threshold, b.rbpf.glmb.gate_threshold);
+  EXPECT_EQ(a.rbpf.glmb.gibbs_samples, b.rbpf.glmb.gibbs_samples);
+  EXPECT_EQ(a.rbpf.glmb.max_hypotheses, b.rbpf.glmb.max_hypotheses);
+  EXPECT_EQ(a.rbpf.glmb.prune_threshold, b.rbpf.glmb.prune_threshold);
+  EXPECT_EQ(a.pipeline.max_measurements, b.pipeline.max_measurements);
+  EXPECT_EQ(a.pipeline.grid_columns, b.pipeline.grid_columns);
+  EXPECT_EQ(a.pipeline.grid_rows, b.pipeline.grid_rows);
+  EXPECT_EQ(a.pipeline.overlap_frontend, b.pipeline.overlap_frontend);
+  EXPECT_EQ(a.pipeline.algorithm, b.pipeline.algorithm);
+  EXPECT_EQ(a.pipeline.trajectory_estimate, b.pipeline.trajectory_estimate);
+}
+
+TEST(StereoConfig, ShippedFilesDocumentTheBuiltInDefaults) {
+  const StereoConfig defaults = default_stereo_config();
+  for (const char* name : {"kitti00-02.yaml", "kitti03.yaml", "kitti04-12.yaml", "kitti_raw.yaml"}) {
+    const auto path = std::filesystem::path(GLMBSLAM_SOURCE_DIR) / "config" / name;
+    ASSERT_TRUE(std::filesystem::exists(path)) << path;
+    expect_same(parse_stereo_config(YAML::LoadFile(path.string()), path.string()), defaults, name);
+  }
+}
+
+TEST(StereoConfig, UnknownKeysWrongTypesAndBadRangesAreErrorsNamingTheKey) {
+  auto expect_error = [](const std::string& yaml, const std::string& key) {
+    try {
+      parse_stereo_config(YAML::Load(yaml), "test.yaml");
+      ADD_FAILURE() << "no error for " << yaml;
+    } catch (const ConfigError& e) {
+      EXPECT_NE(std::string(e.what()).find(key), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("test.yaml"), std::string::npos) << e.what();
+    }
+  };
+  expect_error("rbpf:\n  partcles: 3\n", "partcles");
+  expect_error("measurement:\n  max_depth: far\n", "max_depth");
+  expect_error("measurement:\n  min_depth: 30\n  max_depth: 20\n", "max_depth");
+  expect_error("pipeline:\n  algorithm: glmb3\n", "algorithm");
+  expect_error("pipline:\n  algorithm: glmb1\n", "pipline");
+  expect_error("frontend:\n  orb:\n    featurs: 10\n", "featurs");
+}
+
+TEST(StereoConfig, ValuesOverrideDefaults) {
+  const StereoConfig c = parse_stereo_config(
+      YAML::Load("rbpf:\n  particles: 4\n  glmb:\n    gibbs_samples: 7\npipeline:\n  algorithm: glmb1\n"),
+      "test.yaml");
+  EXPECT_EQ(c.rbpf.particles, 4);
+  EXPECT_EQ(c.rbpf.glmb.gibbs_samples, 7);
+  EXPECT_EQ(c.pipeline.algorithm, "glmb1");
+}
+
+}  // namespace
+}  // namespace glmbslam::app
