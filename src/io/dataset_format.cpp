@@ -13,10 +13,14 @@ DatasetFormat parse_dataset_format(const std::string& name) {
 
 std::string to_string(DatasetFormat format) {
   switch (format) {
-    case DatasetFormat::kAuto: return "auto";
-    case DatasetFormat::kKittiOdometry: return "kitti";
-    case DatasetFormat::kKittiRaw: return "kitti_raw";
-    case DatasetFormat::kVictoriaPark: return "victoria_park";
+    case DatasetFormat::kAuto:
+      return "auto";
+    case DatasetFormat::kKittiOdometry:
+      return "kitti";
+    case DatasetFormat::kKittiRaw:
+      return "kitti_raw";
+    case DatasetFormat::kVictoriaPark:
+      return "victoria_park";
   }
   return "auto";
 }

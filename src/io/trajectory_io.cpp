@@ -15,7 +15,9 @@ namespace {
 using detail::is_blank_line;
 using detail::parse_number_list;
 
-std::string where(const std::string& path, std::size_t line) { return detail::file_line(path, line); }
+std::string where(const std::string& path, std::size_t line) {
+  return detail::file_line(path, line);
+}
 
 }  // namespace
 

@@ -17,7 +17,9 @@ inline std::filesystem::path shared_data_dir() {
 }
 
 /// Path of the glmbslam executable built with the tests.
-inline std::filesystem::path glmbslam_binary() { return std::filesystem::path(GLMBSLAM_BINARY); }
+inline std::filesystem::path glmbslam_binary() {
+  return std::filesystem::path(GLMBSLAM_BINARY);
+}
 
 /// A fresh, empty temporary directory unique to the running test.
 inline std::filesystem::path fresh_temp_dir(const std::string& tag) {
@@ -38,9 +40,9 @@ inline std::filesystem::path fresh_temp_dir(const std::string& tag) {
 }  // namespace glmbslam::test
 
 /// Skips the current test with a clear message when a file or folder of the shared data is absent.
-#define GLMBSLAM_REQUIRE_DATA(var, relative)                                                        \
+#define GLMBSLAM_REQUIRE_DATA(var, relative)                                                       \
   const std::filesystem::path var = glmbslam::test::shared_data_dir() / (relative);                \
-  if (!std::filesystem::exists(var)) {                                                              \
-    GTEST_SKIP() << "shared data not found: " << var.string()                                       \
+  if (!std::filesystem::exists(var)) {                                                             \
+    GTEST_SKIP() << "shared data not found: " << var.string()                                      \
                  << " (set GLMBSLAM_DATA to the folder holding kitti_odometry/, kitti_raw/, ...)"; \
   }
