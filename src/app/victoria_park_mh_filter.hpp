@@ -127,17 +127,10 @@ class GlmbMhSlam {
         config_.resampling == "always" || report.ess < config_.ess_threshold * static_cast<double>(n);
     if (resample && n > 1) {
       RandomStream rng(config_.seed, (static_cast<std::uint64_t>(k) << 24) + 0xFFFFFFULL);
-      const std::vector<std::size_t> idx = backend::systematic_resample(log_w_, rng);
-      next_.resize(n);
-      const double log_uniform = -std::log(static_cast<double>(n));
-      for (std::size_t i = 0; i < n; ++i) {
-        next_[i] = particles_[idx[i]];
-        next_[i].log_weight = log_uniform;
-      }
-      particles_.swap(next_);
+      backend::resample_particles(particles_, next_, log_w_, rng);
       ++resample_count_;
     }
-    for (auto& p : next_) p = Particle{};
+    for (auto& p : next_) p = Particle{};  // release references held by the scratch copies
     report.resampled = resample && n > 1;
     step_ = k;
     last_ = report;
