@@ -9,8 +9,8 @@
 //     computed once; for every measurement passing the χ² gate the updated mean and the log likelihood are
 //     computed once (EKF update cached per track–measurement pair, shared by all hypotheses).
 //  3. Per parent hypothesis h: the sparse η table (rows: its active tracks, then the births), T_h ∝ √ω_h
-//  Gibbs
-//     sweeps, distinct solutions → children with log weight log ω_h + Σ_i log η_i(γ_i).
+//     Gibbs sweeps, distinct solutions → children (parent, ids chosen by its rows), log weight log ω_h +
+//     Σ_i log η_i(γ_i); the parent's out-of-view ids are stored once per parent, not per child.
 //  4. log Ĝ = log Σ children weights (the δ-GLMB normaliser, = g(Z|Z_{1:k−1}, x_{0:k}) / (e^{−λ} Π κ)).
 //  5. Duplicate children merged, normalised, pruned (relative weight < prune_threshold), capped at H_max,
 //     renormalised; the track table is compacted to the referenced tracks.
@@ -187,16 +187,28 @@ class GlmbUpdater {
     }
     ws.source_begin.push_back(static_cast<int>(ws.entry_column.size()));
 
-    // 3. per parent hypothesis: Gibbs sampling of the children
+    // 3. per parent hypothesis: Gibbs sampling of the children. A child is stored as (parent, the ids its
+    // rows chose); the parent's out-of-view ids, identical in all its children, are kept once per parent,
+    // so building, hashing and comparing a child costs O(rows), not O(|I_h|).
     ws.child_ids.clear();
     ws.child_begin.clear();
     ws.child_log_w.clear();
+    ws.child_parent.clear();
+    ws.parent_inactive.clear();
+    ws.parent_inactive_begin.clear();
+    const int n_parents = static_cast<int>(prior.hypotheses.size());
     double sum_sqrt = 0.0;
     for (const auto& h : prior.hypotheses) sum_sqrt += std::exp(0.5 * h.log_weight);
-    for (const auto& h : prior.hypotheses) {
+    for (int p = 0; p < n_parents; ++p) {
+      const Hypothesis& h = prior.hypotheses[p];
       ws.row_source.clear();
-      for (std::uint32_t t : h.tracks)
-        if (ws.source_of_track[t] >= 0) ws.row_source.push_back(ws.source_of_track[t]);
+      ws.parent_inactive_begin.push_back(static_cast<int>(ws.parent_inactive.size()));
+      for (std::uint32_t t : h.tracks) {
+        if (ws.source_of_track[t] >= 0)
+          ws.row_source.push_back(ws.source_of_track[t]);
+        else
+          ws.parent_inactive.push_back(t);  // out of view: copied through to every child
+      }
       for (int b = 0; b < n_birth; ++b)
         if (ws.birth_in_sampler[b]) ws.row_source.push_back(num_active + b);
       ws.table.reset(M);
@@ -217,86 +229,100 @@ class GlmbUpdater {
         const int* gamma = ws.samples.data() + static_cast<std::size_t>(c) * rows;
         double log_w = h.log_weight + log_birth_factor;
         ws.child_begin.push_back(static_cast<int>(ws.child_ids.size()));
-        // The chosen entry of row i: adds its log η to log_w and returns its track id (−1: none, −2:
-        // invalid).
-        auto chosen_id = [&](int i) {
+        // row i's chosen entry: its log η joins log_w and its track id joins the child (the track's own index
+        // when missed, an updated pair track ≥ n_old when detected, nothing when dead / not born)
+        for (int i = 0; i < rows && log_w != kLogZero; ++i) {
           const int s = ws.row_source[i];
+          int id = -2;
           for (int e = ws.source_begin[s]; e < ws.source_begin[s + 1]; ++e) {
             if (ws.entry_column[e] == gamma[i]) {
               log_w += ws.entry_log_eta[e];
-              return ws.entry_id[e];
+              id = ws.entry_id[e];
+              break;
             }
           }
-          log_w = kLogZero;
-          return -2;
-        };
-        // Walk the parent's sorted tracks once: inactive ones are copied through, the i-th active one takes
-        // the id its row chose (its own index when missed, an updated pair track ≥ n_old when detected).
-        // Ids below n_old therefore come out in increasing order; only the new ids (≥ n_old) need sorting,
-        // which keeps building a child O(|I| + a log a) instead of O(|I| log |I|) (a = tracks in view).
-        int row = 0;
-        for (std::uint32_t t : h.tracks) {
-          if (ws.source_of_track[t] < 0) {
-            ws.child_ids.push_back(t);  // inactive: copied through
-            continue;
-          }
-          const int id = chosen_id(row++);
+          if (id == -2) log_w = kLogZero;
           if (id >= 0) ws.child_ids.push_back(static_cast<std::uint32_t>(id));
-        }
-        for (; row < rows; ++row) {  // births
-          const int id = chosen_id(row);
-          if (id >= 0) ws.child_ids.push_back(static_cast<std::uint32_t>(id));
-        }
-        {
-          const auto b = ws.child_ids.begin() + ws.child_begin.back();
-          const auto mid = std::stable_partition(b, ws.child_ids.end(), [&](std::uint32_t id) {
-            return id < static_cast<std::uint32_t>(n_old);
-          });
-          std::sort(mid, ws.child_ids.end());
         }
         if (log_w == kLogZero) {
           ws.child_ids.resize(ws.child_begin.back());
           ws.child_begin.pop_back();
           continue;
         }
+        std::sort(ws.child_ids.begin() + ws.child_begin.back(), ws.child_ids.end());
         ws.child_log_w.push_back(log_w);
+        ws.child_parent.push_back(p);
       }
     }
     const int n_children = static_cast<int>(ws.child_log_w.size());
     ws.child_begin.push_back(static_cast<int>(ws.child_ids.size()));
+    ws.parent_inactive_begin.push_back(static_cast<int>(ws.parent_inactive.size()));
 
     GlmbUpdateStats stats;
     stats.active_tracks = num_active;
     // 4. normaliser
     stats.log_normalizer = log_sum_exp(ws.child_log_w);
 
-    // 5. merge duplicates (children with identical sorted track-id sets), normalise, prune, cap
+    // 5. merge duplicates (children with identical track-id sets), normalise, prune, cap.
+    // Parents with identical out-of-view id lists form one class; two children are equal iff their parents
+    // are in the same class and they chose the same ids.
+    auto inactive_begin = [&](int p) { return ws.parent_inactive.begin() + ws.parent_inactive_begin[p]; };
+    auto inactive_end = [&](int p) { return ws.parent_inactive.begin() + ws.parent_inactive_begin[p + 1]; };
+    ws.parent_hash.resize(n_parents);
+    for (int p = 0; p < n_parents; ++p) {
+      std::uint64_t hsh =
+          0x9e3779b97f4a7c15ULL ^ static_cast<std::uint64_t>(inactive_end(p) - inactive_begin(p));
+      for (auto it = inactive_begin(p); it != inactive_end(p); ++it) hsh = splitmix64(hsh ^ *it);
+      ws.parent_hash[p] = hsh;
+    }
+    ws.parent_order.resize(n_parents);
+    std::iota(ws.parent_order.begin(), ws.parent_order.end(), 0);
+    std::sort(ws.parent_order.begin(), ws.parent_order.end(), [&](int a, int b) {
+      return ws.parent_hash[a] != ws.parent_hash[b] ? ws.parent_hash[a] < ws.parent_hash[b] : a < b;
+    });
+    ws.parent_class.assign(n_parents, -1);
+    for (int k = 0; k < n_parents; ++k) {
+      const int p = ws.parent_order[k];
+      if (ws.parent_class[p] >= 0) continue;
+      ws.parent_class[p] = p;
+      for (int l = k + 1; l < n_parents && ws.parent_hash[ws.parent_order[l]] == ws.parent_hash[p]; ++l) {
+        const int q = ws.parent_order[l];
+        if (ws.parent_class[q] < 0 &&
+            std::equal(inactive_begin(p), inactive_end(p), inactive_begin(q), inactive_end(q)))
+          ws.parent_class[q] = p;
+      }
+    }
     ws.child_hash.resize(n_children);
     for (int c = 0; c < n_children; ++c) {
-      auto b = ws.child_ids.begin() + ws.child_begin[c], e = ws.child_ids.begin() + ws.child_begin[c + 1];
-      std::uint64_t hsh = 0x9e3779b97f4a7c15ULL ^ static_cast<std::uint64_t>(e - b);
-      for (auto it = b; it != e; ++it) hsh = splitmix64(hsh ^ *it);
-      ws.child_hash[c] = hsh;
+      const int cls = ws.parent_class[ws.child_parent[c]];
+      std::uint64_t hsh =
+          ws.parent_hash[cls] ^ static_cast<std::uint64_t>(ws.child_begin[c + 1] - ws.child_begin[c]);
+      for (int k = ws.child_begin[c]; k < ws.child_begin[c + 1]; ++k) hsh = splitmix64(hsh ^ ws.child_ids[k]);
+      ws.child_hash[c] = splitmix64(hsh ^ static_cast<std::uint64_t>(cls));
     }
     ws.order.resize(n_children);
     std::iota(ws.order.begin(), ws.order.end(), 0);
-    auto same_ids = [&](int a, int b) {
-      return ws.child_begin[a + 1] - ws.child_begin[a] == ws.child_begin[b + 1] - ws.child_begin[b] &&
-             std::equal(ws.child_ids.begin() + ws.child_begin[a],
-                        ws.child_ids.begin() + ws.child_begin[a + 1],
-                        ws.child_ids.begin() + ws.child_begin[b]);
+    auto ids_less = [&](int a, int b) {  // -1, 0, 1 on (class, chosen ids)
+      const int ca = ws.parent_class[ws.child_parent[a]], cb = ws.parent_class[ws.child_parent[b]];
+      if (ca != cb) return ca < cb ? -1 : 1;
+      const auto ab = ws.child_ids.begin() + ws.child_begin[a],
+                 ae = ws.child_ids.begin() + ws.child_begin[a + 1];
+      const auto bb = ws.child_ids.begin() + ws.child_begin[b],
+                 be = ws.child_ids.begin() + ws.child_begin[b + 1];
+      if (std::lexicographical_compare(ab, ae, bb, be)) return -1;
+      if (std::lexicographical_compare(bb, be, ab, ae)) return 1;
+      return 0;
     };
     std::sort(ws.order.begin(), ws.order.end(), [&](int a, int b) {
       if (ws.child_hash[a] != ws.child_hash[b]) return ws.child_hash[a] < ws.child_hash[b];
-      return std::lexicographical_compare(
-          ws.child_ids.begin() + ws.child_begin[a], ws.child_ids.begin() + ws.child_begin[a + 1],
-          ws.child_ids.begin() + ws.child_begin[b], ws.child_ids.begin() + ws.child_begin[b + 1]);
+      const int cmp = ids_less(a, b);
+      return cmp != 0 ? cmp < 0 : a < b;
     });
     ws.merged.clear();
     for (int k = 0; k < n_children; ++k) {
       const int c = ws.order[k];
       if (!ws.merged.empty() && ws.child_hash[ws.merged.back().first] == ws.child_hash[c] &&
-          same_ids(ws.merged.back().first, c)) {
+          ids_less(ws.merged.back().first, c) == 0) {
         ws.merged.back().second = log_add(ws.merged.back().second, ws.child_log_w[c]);
       } else {
         ws.merged.emplace_back(c, ws.child_log_w[c]);
@@ -317,9 +343,12 @@ class GlmbUpdater {
     // compaction: new indices in increasing id order, so sorted id lists stay sorted
     const int n_ids = n_old + static_cast<int>(ws.extra.size());
     ws.new_index.assign(n_ids, -1);
-    for (const auto& mc : ws.merged)
+    for (const auto& mc : ws.merged) {
+      const int p = ws.child_parent[mc.first];
+      for (auto it = inactive_begin(p); it != inactive_end(p); ++it) ws.new_index[*it] = 0;
       for (int k = ws.child_begin[mc.first]; k < ws.child_begin[mc.first + 1]; ++k)
         ws.new_index[ws.child_ids[k]] = 0;
+    }
     posterior.tracks.clear();
     for (int id = 0; id < n_ids; ++id) {
       if (ws.new_index[id] < 0) continue;
@@ -329,11 +358,15 @@ class GlmbUpdater {
     posterior.hypotheses.resize(ws.merged.size());
     for (std::size_t k = 0; k < ws.merged.size(); ++k) {
       const auto& mc = ws.merged[k];
+      const int p = ws.child_parent[mc.first];
       Hypothesis& h = posterior.hypotheses[k];
       h.log_weight = mc.second - log_kept;
-      h.tracks.clear();
-      for (int i = ws.child_begin[mc.first]; i < ws.child_begin[mc.first + 1]; ++i)
-        h.tracks.push_back(static_cast<std::uint32_t>(ws.new_index[ws.child_ids[i]]));
+      h.tracks.resize(static_cast<std::size_t>((inactive_end(p) - inactive_begin(p)) +
+                                               (ws.child_begin[mc.first + 1] - ws.child_begin[mc.first])));
+      // the union of two sorted id lists (disjoint: out-of-view ids and chosen ids), remapped monotonically
+      std::merge(inactive_begin(p), inactive_end(p), ws.child_ids.begin() + ws.child_begin[mc.first],
+                 ws.child_ids.begin() + ws.child_begin[mc.first + 1], h.tracks.begin());
+      for (auto& id : h.tracks) id = static_cast<std::uint32_t>(ws.new_index[id]);
     }
     if (posterior.hypotheses.empty()) posterior.hypotheses.push_back(Hypothesis{0.0, {}});
 
@@ -366,7 +399,10 @@ class GlmbUpdater {
     GibbsWorkspace gibbs;
     std::vector<int> samples;
     std::vector<std::uint32_t> child_ids;
-    std::vector<int> child_begin, order, new_index;
+    std::vector<int> child_begin, order, new_index, child_parent;
+    std::vector<std::uint32_t> parent_inactive;
+    std::vector<int> parent_inactive_begin, parent_order, parent_class;
+    std::vector<std::uint64_t> parent_hash;
     std::vector<double> child_log_w;
     std::vector<std::uint64_t> child_hash;
     std::vector<std::pair<int, double>> merged;
