@@ -8,7 +8,7 @@
 #   OUT_DIR    where runs and table.md go (default out/victoria_park_table)
 # Environment:
 #   GLMBSLAM     the executable (default build/src/app/glmbslam)
-#   ALGORITHMS   default "glmb2 glmb-mh glmb1 deadreckoning"
+#   ALGORITHMS   default "glmb2 glmb-mh phd3 phd1 glmb1 deadreckoning"
 #   PARTICLES    default "1 5 10"
 #   SEEDS        default "0 1 2 3 4 5 6 7 8 9"
 #   CONFIG       config file (default config/victoria_park.yaml)
@@ -19,7 +19,7 @@ root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 data="${1:-$root/../shared/data/victoria_park}"
 out="${2:-$root/out/victoria_park_table}"
 bin="${GLMBSLAM:-$root/build/src/app/glmbslam}"
-algorithms="${ALGORITHMS:-glmb2 glmb-mh glmb1 deadreckoning}"
+algorithms="${ALGORITHMS:-glmb2 glmb-mh phd3 phd1 glmb1 deadreckoning}"
 particles="${PARTICLES:-1 5 10}"
 seeds="${SEEDS:-0 1 2 3 4 5 6 7 8 9}"
 config="${CONFIG:-$root/config/victoria_park.yaml}"

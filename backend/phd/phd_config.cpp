@@ -8,6 +8,7 @@ void load_phd_config(ConfigNode node, PhdConfig& config) {
   node.read_in_range("seed", seed, 0, 2147483647);
   config.seed = static_cast<std::uint64_t>(seed);
   node.read_choice("likelihood", config.likelihood, {"empty_map", "single_feature", "poisson"});
+  node.read_choice("proposal", config.proposal, {"prior", "mh"});
   node.read_choice("resampling", config.resampling, {"always", "ess"});
   node.read_in_range("ess_threshold", config.ess_threshold, 0.0, 1.0);
   node.read_in_range("birth_weight", config.birth_weight, 0.0, 1.0);
@@ -27,6 +28,7 @@ void validate_phd_config(const PhdConfig& c) {
   if (c.likelihood != "empty_map" && c.likelihood != "single_feature" && c.likelihood != "poisson") {
     throw ConfigError("phd.likelihood must be 'empty_map', 'single_feature' or 'poisson'");
   }
+  if (c.proposal != "prior" && c.proposal != "mh") throw ConfigError("phd.proposal must be 'prior' or 'mh'");
   if (c.resampling != "always" && c.resampling != "ess") {
     throw ConfigError("phd.resampling must be 'always' or 'ess'");
   }

@@ -1,6 +1,7 @@
 #pragma once
-// Settings of RB-PHD-SLAM 1.0 (Mullane et al., paper 002; digest section 1), defaults from paper 003 where
-// 002 gives none (birth weight, pruning T = 1e-6, merging U = 50, gate 41.4465).
+// Settings of RB-PHD-SLAM 1.0 (Mullane et al., paper 002; digest section 1) and PHD-SLAM 3.0 (proposal "mh"),
+// defaults from paper 003 where 002 gives none (birth weight, pruning T = 1e-6, merging U = 50,
+// gate 41.4465).
 #include <cstdint>
 #include <string>
 
@@ -16,6 +17,10 @@ struct PhdConfig {
   ///  "single_feature" the same identity evaluated at the strongest updated component (digest 1.3);
   ///  "poisson"        the exact Poisson-prior form of 003: −λ_c − ∫p_D v + Σ_z log(κ(z) + ∫Λ v).
   std::string likelihood = "empty_map";
+  /// Pose proposal: "prior" (x ~ f(·|x⁻, u), RB-PHD-SLAM 1.0) or "mh" (paper 003's multi-hypothesis
+  /// importance density on the GM-PHD map = PHD-SLAM 3.0; its settings, MhProposalConfig, are passed to the
+  /// PhdSlam constructor — the top-level YAML section "mh" of `glmbslam run` / `glmbslam sim`)
+  std::string proposal = "prior";
   std::string resampling = "always";  ///< "always" (every step) or "ess" (when ESS < ess_threshold · N)
   double ess_threshold = 0.5;
   double birth_weight = 1e-6;   ///< η_B of each birth component (003)

@@ -4,19 +4,30 @@
 // ("prior") proposal, so the weight update is w_k = w_{k−1} · g(Z_k | Z_{1:k−1}, X_{0:k}) (the configured
 // likelihood form).
 //
+// With proposal "mh" (PhdConfig::proposal) it is PHD-SLAM 3.0 (paper 003, digest 2.3–2.5): the pose is drawn
+// from the multi-hypothesis importance density (backend/rbpf/mh_proposal.hpp with the GM-PHD landmark adapter
+// phd_mh_landmarks.hpp: η = GM weight capped at 1), built once per parent (resampled copies of one parent
+// share one build — exact, the build draws no random numbers), and the weight is Eq. 45:
+//   log w += log g(Z_k | Z_{1:k−1}, X_{0:k}) + log f(x | x⁻, u) − log Σ_t κ̃^t N(x; μ^t, Σ^t)
+// with the configured PHD likelihood g (PhdConfig::likelihood; "poisson" = Eq. 46 + the expected-detections
+// term).
+//
 // Per step k (first call of step() is k = 1), for every particle in parallel with its own RandomStream
-// (seed, k, particle) — so the output does not depend on the thread count: x ~ f(·|x⁻, u); map update at x;
-// log w += log g. Then normalisation, the estimate (highest-weight particle, before resampling) and
-// systematic resampling every step ("always") or when ESS < ess_threshold·N ("ess"). Trajectories
-// (parent-linked nodes) and maps (shared_ptr to const) are shared between particles, so resampling copies
-// pointers.
+// (seed, k, particle) — so the output does not depend on the thread count: x ~ f(·|x⁻, u) (or the MH-ID);
+// map update at x; log w += log g (+ the importance ratio). Then normalisation, the estimate (highest-weight
+// particle, before resampling) and systematic resampling every step ("always") or when ESS < ess_threshold·N
+// ("ess"). Trajectories (parent-linked nodes) and maps (shared_ptr to const) are shared between particles, so
+// resampling copies pointers.
 #include <algorithm>
 #include <cmath>
 #include <memory>
 #include <stdexcept>
+#include <unordered_map>
 #include <vector>
 
 #include "backend/phd/gm_phd_map.hpp"
+#include "backend/phd/phd_mh_landmarks.hpp"
+#include "backend/rbpf/mh_proposal.hpp"
 #include "backend/rbpf/resampling.hpp"
 #include "backend/rbpf/trajectory.hpp"
 #include "core/error.hpp"
@@ -43,6 +54,7 @@ class PhdSlam {
   using State = typename Motion::State;
   using Control = typename Motion::Control;
   using Tangent = typename Motion::Tangent;
+  using Covariance = typename Motion::Covariance;
   using Measurement = typename Meas::Measurement;
   using MeasurementSet = std::vector<Measurement, Eigen::aligned_allocator<Measurement>>;
   using Map = GmPhdMap<Meas>;
@@ -57,9 +69,10 @@ class PhdSlam {
     std::shared_ptr<const Map> map;
   };
 
-  /// Throws ConfigError on an invalid config.
-  PhdSlam(const Motion& motion, const Meas& model, const PhdConfig& config, const State& initial_pose)
-      : motion_(motion), config_(config), updater_(model, config) {
+  /// Throws ConfigError on an invalid config. `mh` configures proposal "mh" (ignored otherwise).
+  PhdSlam(const Motion& motion, const Meas& model, const PhdConfig& config, const State& initial_pose,
+          const MhProposalConfig& mh = MhProposalConfig())
+      : motion_(motion), config_(config), updater_(model, config), mh_proposal_(motion, model, mh) {
     auto root = std::make_shared<const Node>(initial_pose, 0, nullptr);
     auto empty = std::make_shared<const Map>();
     const double log_w = -std::log(static_cast<double>(config.particles));
@@ -90,16 +103,30 @@ class PhdSlam {
     const std::size_t n = particles_.size();
     next_.resize(n);
     stats_.resize(n);
+    const bool mh = config_.proposal == "mh";
+    if (mh) build_mh_per_parent(u, Z);
     parallel_for(n, [&](std::size_t i) {
       RandomStream rng(config_.seed, (static_cast<std::uint64_t>(k) << 24) + i);
       const Particle& p = particles_[i];
-      const State x = motion_.sample(p.trajectory->pose, u, rng);
+      State x, x_estimate;
+      double log_ratio = 0.0;  // log f(x|x⁻,u) − log q(x) (0 for the prior proposal)
+      if (mh) {                // the parent's MH-ID (shared by its resampled copies)
+        const std::size_t s = static_cast<std::size_t>(parent_of_[i]);
+        const auto& q = mh_results_[s];
+        x = mh_proposal_.sample(q, rng);
+        x_estimate = mh_proposal_.mean(q);
+        log_ratio =
+            log_gaussian(Motion::local(x, mh_pred_[s]), mh_pred_cov_[s]) - mh_proposal_.log_density(q, x);
+      } else {
+        x = motion_.sample(p.trajectory->pose, u, rng);
+        x_estimate = x;
+      }
       auto map = std::make_shared<Map>();
       const GmPhdUpdateStats s = updater_.update(*p.map, x, Z, *map);
       Particle& out = next_[i];
-      out.log_weight = p.log_weight + s.log_likelihood;
+      out.log_weight = p.log_weight + s.log_likelihood + log_ratio;
       if (!std::isfinite(out.log_weight)) out.log_weight = kLogZero;
-      out.trajectory = std::make_shared<const Node>(x, k, p.trajectory);
+      out.trajectory = std::make_shared<const Node>(x, x_estimate, k, p.trajectory);
       out.map = std::move(map);
       stats_[i] = s;
     });
@@ -136,6 +163,8 @@ class PhdSlam {
   const State& pose() const { return best_.trajectory->pose; }
   /// The highest-weight particle's trajectory, steps 0..k.
   PoseList trajectory() const { return best_.trajectory->poses(); }
+  /// Its proposal means, steps 0..k (the MH-ID mixture mean for "mh", the sampled pose for "prior").
+  PoseList estimated_trajectory() const { return best_.trajectory->estimates(); }
   /// The highest-weight particle's map estimate: components with weight > existence_threshold.
   ComponentList landmarks() const { return updater_.estimate(*best_.map); }
   const Map& map() const { return *best_.map; }
@@ -146,9 +175,42 @@ class PhdSlam {
   const PhdConfig& config() const { return config_; }
 
  private:
+  /// Proposal "mh": one MH-ID per distinct parent (trajectory node) of the current particles, in parallel.
+  void build_mh_per_parent(const Control& u, const MeasurementSet& Z) {
+    const std::size_t n = particles_.size();
+    parent_of_.resize(n);
+    parents_.clear();
+    parent_slot_.clear();
+    for (std::size_t i = 0; i < n; ++i) {
+      const auto [it, inserted] =
+          parent_slot_.emplace(particles_[i].trajectory.get(), static_cast<int>(parents_.size()));
+      if (inserted) parents_.push_back(i);
+      parent_of_[i] = it->second;
+    }
+    const std::size_t np = parents_.size();
+    if (mh_results_.size() < np) mh_results_.resize(np);
+    mh_pred_.resize(np);
+    mh_pred_cov_.resize(np);
+    parallel_for(np, [&](std::size_t s) {
+      const Particle& par = particles_[parents_[s]];
+      const State& x_prev = par.trajectory->pose;
+      mh_pred_[s] = motion_.predict(x_prev, u);
+      mh_pred_cov_[s] = motion_.process_noise(x_prev, u);
+      RandomStream unused(config_.seed, 0);  // the build draws nothing
+      mh_proposal_.build(*par.map, mh_pred_[s], mh_pred_cov_[s], Z, unused, mh_results_[s]);
+    });
+  }
+
   Motion motion_;
   PhdConfig config_;
   GmPhdUpdater<Meas> updater_;
+  MhProposal<Motion, Meas> mh_proposal_;
+  std::vector<int> parent_of_;
+  std::vector<std::size_t> parents_;
+  std::unordered_map<const Node*, int> parent_slot_;
+  std::vector<typename MhProposal<Motion, Meas>::Result> mh_results_;
+  std::vector<State, Eigen::aligned_allocator<State>> mh_pred_;
+  std::vector<Covariance, Eigen::aligned_allocator<Covariance>> mh_pred_cov_;
   std::vector<Particle> particles_, next_;
   std::vector<GmPhdUpdateStats> stats_;
   std::vector<double> log_w_;

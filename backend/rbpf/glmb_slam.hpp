@@ -6,6 +6,11 @@
 // (seed, k, particle index) — so the output does not depend on the thread count:
 //   proposal "prior":   x ~ f(·|x⁻, u) (δ-GLMB-SLAM 1.0)
 //   proposal "optimal": x ~ q = the optimal-kernel Gaussian (optimal_proposal.hpp; δ-GLMB-SLAM 2.0)
+//   proposal "mh":      x ~ q = the multi-hypothesis importance density of paper 003 (mh_proposal.hpp,
+//   settings
+//                       passed to the constructor), built ONCE PER PARENT: particles that are resampled
+//                       copies of one parent (same trajectory node and map) share one build — exact, since
+//                       the build draws no random numbers; log q is the full mixture density
 //   map: δ-GLMB joint prediction/update at x (glmb_update.hpp) → new map, log Ĝ(x)
 //   weight "importance": log w += log Ĝ(x) + log f(x|x⁻,u) − log q(x)   (= log Ĝ for the prior proposal)
 //   weight "paper":      log w += log Σ_{h,θ} W_{h,θ}   (Eq. 33 as printed; log Ĝ for the prior proposal)
@@ -16,10 +21,12 @@
 #include <cmath>
 #include <memory>
 #include <stdexcept>
+#include <unordered_map>
 #include <vector>
 
 #include "backend/glmb/glmb_map.hpp"
 #include "backend/glmb/glmb_update.hpp"
+#include "backend/rbpf/mh_proposal.hpp"
 #include "backend/rbpf/optimal_proposal.hpp"
 #include "backend/rbpf/rbpf_config.hpp"
 #include "backend/rbpf/resampling.hpp"
@@ -65,18 +72,22 @@ class GlmbSlam {
     std::shared_ptr<const Map> map;
   };
 
-  /// Throws ConfigError on an invalid config.
-  GlmbSlam(const Motion& motion, const Meas& model, const RbpfConfig& config, const State& initial_pose)
+  /// Throws ConfigError on an invalid config. `mh` configures proposal "mh" (ignored otherwise).
+  GlmbSlam(const Motion& motion, const Meas& model, const RbpfConfig& config, const State& initial_pose,
+           const MhProposalConfig& mh = MhProposalConfig())
       : motion_(motion),
         model_(model),
         config_(config),
         updater_(model, config.glmb),
-        proposal_(motion, model, config) {
+        proposal_(motion, model, config),
+        mh_proposal_(motion, model, mh) {
     if (config.particles < 1) throw ConfigError("rbpf.particles must be at least 1");
-    if (config.proposal != "prior" && config.proposal != "optimal")
-      throw ConfigError("rbpf.proposal must be 'prior' or 'optimal'");
+    if (config.proposal != "prior" && config.proposal != "optimal" && config.proposal != "mh")
+      throw ConfigError("rbpf.proposal must be 'prior', 'optimal' or 'mh'");
     if (config.weighting != "importance" && config.weighting != "paper")
       throw ConfigError("rbpf.weighting must be 'importance' or 'paper'");
+    if (config.proposal == "mh" && config.weighting != "importance")
+      throw ConfigError("rbpf.proposal 'mh' needs rbpf.weighting 'importance'");
     if (config.resampling != "always" && config.resampling != "ess")
       throw ConfigError("rbpf.resampling must be 'always' or 'ess'");
     auto root = std::make_shared<const Node>(initial_pose, 0, nullptr);
@@ -111,7 +122,9 @@ class GlmbSlam {
     next_.resize(n);
     stats_.resize(n);
     const bool optimal = config_.proposal == "optimal";
+    const bool mh = config_.proposal == "mh";
     const bool paper = config_.weighting == "paper";
+    if (mh) build_mh_per_parent(u, Z);
     parallel_for(n, [&](std::size_t i) {
       RandomStream rng(config_.seed, (static_cast<std::uint64_t>(k) << 24) + i);
       const Particle& p = particles_[i];
@@ -119,7 +132,14 @@ class GlmbSlam {
       State x;
       State x_estimate;
       double log_increment = 0.0;
-      if (optimal) {
+      if (mh) {  // the parent's MH-ID (shared by its resampled copies)
+        const std::size_t s = static_cast<std::size_t>(parent_of_[i]);
+        const auto& q = mh_results_[s];
+        x = mh_proposal_.sample(q, rng);
+        x_estimate = mh_proposal_.mean(q);
+        log_increment =
+            log_gaussian(Motion::local(x, mh_pred_[s]), mh_pred_cov_[s]) - mh_proposal_.log_density(q, x);
+      } else if (optimal) {
         thread_local typename OptimalProposal<Motion, Meas>::Result q;
         const State x_pred = motion_.predict(x_prev, u);
         const Covariance P_pred = motion_.process_noise(x_prev, u);
@@ -202,6 +222,32 @@ class GlmbSlam {
   const RbpfConfig& config() const { return config_; }
 
  private:
+  /// Proposal "mh": one MH-ID per distinct parent (trajectory node) of the current particles, in parallel.
+  void build_mh_per_parent(const Control& u, const MeasurementSet& Z) {
+    const std::size_t n = particles_.size();
+    parent_of_.resize(n);
+    parents_.clear();
+    parent_slot_.clear();
+    for (std::size_t i = 0; i < n; ++i) {
+      const auto [it, inserted] =
+          parent_slot_.emplace(particles_[i].trajectory.get(), static_cast<int>(parents_.size()));
+      if (inserted) parents_.push_back(i);
+      parent_of_[i] = it->second;
+    }
+    const std::size_t np = parents_.size();
+    if (mh_results_.size() < np) mh_results_.resize(np);
+    mh_pred_.resize(np);
+    mh_pred_cov_.resize(np);
+    parallel_for(np, [&](std::size_t s) {
+      const Particle& par = particles_[parents_[s]];
+      const State& x_prev = par.trajectory->pose;
+      mh_pred_[s] = motion_.predict(x_prev, u);
+      mh_pred_cov_[s] = motion_.process_noise(x_prev, u);
+      RandomStream unused(config_.seed, 0);  // the build draws nothing
+      mh_proposal_.build(*par.map, mh_pred_[s], mh_pred_cov_[s], Z, unused, mh_results_[s]);
+    });
+  }
+
   State weighted_mean(const std::vector<Particle>& ps) const {
     const State& ref = best_.trajectory->pose;
     Tangent d = Tangent::Zero();
@@ -214,6 +260,14 @@ class GlmbSlam {
   RbpfConfig config_;
   GlmbUpdater<Meas> updater_;
   OptimalProposal<Motion, Meas> proposal_;
+  MhProposal<Motion, Meas> mh_proposal_;
+  // proposal "mh": distinct parents of the current particles and their MH-IDs
+  std::vector<int> parent_of_;
+  std::vector<std::size_t> parents_;
+  std::unordered_map<const Node*, int> parent_slot_;
+  std::vector<typename MhProposal<Motion, Meas>::Result> mh_results_;
+  std::vector<State, Eigen::aligned_allocator<State>> mh_pred_;
+  std::vector<Covariance, Eigen::aligned_allocator<Covariance>> mh_pred_cov_;
   std::vector<Particle> particles_, next_;
   std::vector<GlmbUpdateStats> stats_;
   std::vector<double> log_w_;

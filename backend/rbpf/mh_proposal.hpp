@@ -1,12 +1,16 @@
 #pragma once
 // The multi-hypothesis importance density (MH-ID) of paper 003 (PHD-SLAM 3.0; digest 2.4–2.5) for a
-// particle whose map is a δ-GLMB (GlmbMap). Same interface as OptimalProposal (build / sample / log_density),
-// so GlmbSlam selects it with proposal "mh".
+// particle's landmark map. Same interface as OptimalProposal (build / sample / log_density): GlmbSlam
+// (δ-GLMB map) and PhdSlam (GM-PHD map, = PHD-SLAM 3.0) select it with proposal "mh".
 //
-// build(map, x̄, P̄, Z):
-//  1. Landmarks: the labels of the map that are in view at x̄ (with a 3σ position margin). Label ℓ gets the
-//     weight η_ℓ = Σ_h ω_h [ℓ ∈ I_h] (its existence probability across the hypotheses, ≤ 1) and one Gaussian:
-//     the ω-weighted moment match of its tracks (one track per label in most maps).
+// build(map, x̄, P̄, Z) = a map adapter (step 1) + one map-independent core (steps 2–5, build_from_landmarks):
+//  1. Landmarks (adapter gather_mh_landmarks(map, model, x̄, margin, out), overloaded per map type and found
+//  by
+//     argument-dependent lookup): the landmarks in view at x̄ (with a fov_margin_sigmas × position-σ margin),
+//     each with one Gaussian and a weight η (capped at 1 by the core):
+//       δ-GLMB (here): label ℓ, η_ℓ = Σ_h ω_h [ℓ ∈ I_h] (its existence probability across the hypotheses) and
+//                      the ω-weighted moment match of its tracks (one track per label in most maps);
+//       GM-PHD (backend/phd/phd_mh_landmarks.hpp): every component, η = its GM weight (digest 2.4).
 //  2. Log-likelihood table (Eq. 29–31, pose-marginal innovation of the REF-CODE):
 //       log ℓ^{i,j} = log(η_i p_D^i) − log κ(z_j) + log N(z_j; h(m̂_i, x̄), H_m P_i H_mᵀ + H_x P̄ H_xᵀ + R)
 //       (−∞ outside the χ² gate), log ℓ^{i,0} = log(1 − η_i p_D^i)   (Bernoulli form: a label that may not
@@ -46,6 +50,17 @@
 #include "core/random.hpp"
 
 namespace glmbslam::backend {
+
+/// One landmark of the MH-ID (step 1 above): Gaussian position and weight η (capped at 1 by the core).
+template <class Meas>
+struct MhLandmark {
+  typename Meas::Landmark mean;
+  typename Meas::LandmarkCovariance cov;
+  double weight = 1.0;
+  EIGEN_MAKE_ALIGNED_OPERATOR_NEW
+};
+template <class Meas>
+using MhLandmarkList = std::vector<MhLandmark<Meas>, Eigen::aligned_allocator<MhLandmark<Meas>>>;
 
 /// Iterated posterior linearisation with the partitioned (one measurement at a time) update, paper 003
 /// Algorithm 1 with first-order statistical linear regression. Pairs (landmark mean, landmark covariance,
@@ -108,6 +123,61 @@ int ipl_partitioned_update(const Meas& model, const typename Motion::State& x_pr
   return run;
 }
 
+/// Step 1 for a δ-GLMB map: the labels with a track in view at x̄ (find_active with the given margin), each
+/// with η_ℓ = Σ_h ω_h [ℓ ∈ I_h] and the ω-weighted moment match of its tracks.
+template <class Meas>
+void gather_mh_landmarks(const GlmbMap<Meas>& map, const Meas& model, const typename Meas::Pose& x_pred,
+                         double margin, MhLandmarkList<Meas>& out) {
+  struct Scratch {
+    std::vector<char> active;
+    std::vector<double> track_weight, slot_weight;
+    std::vector<int> slot_of_track;
+    std::unordered_map<std::uint64_t, int> label_slot;
+  };
+  thread_local Scratch ws;
+  out.clear();
+  map.find_active(model, x_pred, margin, ws.active);
+  ws.track_weight.assign(map.tracks.size(), 0.0);
+  bool any = false;
+  for (std::size_t t = 0; t < map.tracks.size(); ++t) any = any || ws.active[t];
+  if (!any) return;
+  for (const auto& h : map.hypotheses) {
+    const double w = std::exp(h.log_weight);
+    for (std::uint32_t t : h.tracks)
+      if (ws.active[t]) ws.track_weight[t] += w;
+  }
+  ws.label_slot.clear();
+  ws.slot_weight.clear();
+  ws.slot_of_track.assign(map.tracks.size(), -1);
+  for (std::size_t t = 0; t < map.tracks.size(); ++t) {  // weights and weighted means per label
+    if (!ws.active[t] || ws.track_weight[t] <= 0.0) continue;
+    const auto [it, inserted] =
+        ws.label_slot.emplace(map.tracks[t].label.key(), static_cast<int>(out.size()));
+    if (inserted) {
+      MhLandmark<Meas> lm;
+      lm.mean.setZero();
+      lm.cov.setZero();
+      out.push_back(lm);
+      ws.slot_weight.push_back(0.0);
+    }
+    const int s = it->second;
+    ws.slot_of_track[t] = s;
+    ws.slot_weight[s] += ws.track_weight[t];
+    out[s].mean += ws.track_weight[t] * map.tracks[t].mean;
+  }
+  for (std::size_t s = 0; s < out.size(); ++s) out[s].mean /= ws.slot_weight[s];
+  for (std::size_t t = 0; t < map.tracks.size(); ++t) {
+    const int s = ws.slot_of_track[t];
+    if (s < 0) continue;
+    const auto d = (map.tracks[t].mean - out[s].mean).eval();
+    out[s].cov += ws.track_weight[t] * (map.tracks[t].cov + d * d.transpose());
+  }
+  for (std::size_t s = 0; s < out.size(); ++s) {
+    out[s].cov /= ws.slot_weight[s];
+    out[s].weight = ws.slot_weight[s];
+  }
+}
+
 template <class Motion, class Meas>
 class MhProposal {
  public:
@@ -137,12 +207,23 @@ class MhProposal {
       : motion_(motion), model_(model), config_(config) {}
   const MhProposalConfig& config() const { return config_; }
 
-  void build(const GlmbMap<Meas>& map, const State& x_pred, const Covariance& P_pred, const MeasurementSet& Z,
+  /// Steps 1–5 for any map with a gather_mh_landmarks overload (δ-GLMB here, GM-PHD in backend/phd).
+  template <class Map>
+  void build(const Map& map, const State& x_pred, const Covariance& P_pred, const MeasurementSet& Z,
              RandomStream& /*rng: unused, build is deterministic*/, Result& out) const {
+    Workspace& ws = workspace();
+    const double pos_sigma = std::sqrt(std::max(0.0, P_pred.template topLeftCorner<2, 2>().trace()));
+    gather_mh_landmarks(map, model_, x_pred, config_.fov_margin_sigmas * pos_sigma, ws.gathered);
+    build_from_landmarks(ws.gathered, x_pred, P_pred, Z, out);
+  }
+
+  /// Steps 2–5 (the map-independent core) for the given in-view landmarks.
+  void build_from_landmarks(const MhLandmarkList<Meas>& landmarks, const State& x_pred,
+                            const Covariance& P_pred, const MeasurementSet& Z, Result& out) const {
     Workspace& ws = workspace();
     out.components.clear();
     out.ranked = 0;
-    collect_landmarks(map, x_pred, P_pred, ws);
+    set_landmarks(landmarks, x_pred, ws);
     const int M = static_cast<int>(ws.lm.size());
     const int J = static_cast<int>(Z.size());
     out.landmarks_in_view = M;
@@ -263,6 +344,17 @@ class MhProposal {
     return s;
   }
 
+  /// The mixture mean Σ_t κ̃^t μ^t, taken in the tangent space at the highest-weight component's mean.
+  State mean(const Result& q) const {
+    std::size_t best = 0;
+    for (std::size_t c = 1; c < q.components.size(); ++c)
+      if (q.components[c].log_weight > q.components[best].log_weight) best = c;
+    const State& ref = q.components[best].mean;
+    Tangent d = Tangent::Zero();
+    for (const auto& c : q.components) d += std::exp(c.log_weight) * Motion::local(c.mean, ref);
+    return Motion::retract(ref, d);
+  }
+
  private:
   struct Landmark {
     typename Meas::Landmark mean;
@@ -279,16 +371,13 @@ class MhProposal {
     EIGEN_MAKE_ALIGNED_OPERATOR_NEW
   };
   struct Workspace {
-    std::vector<char> active;
+    MhLandmarkList<Meas> gathered;
     std::vector<Landmark, Eigen::aligned_allocator<Landmark>> lm;
-    std::unordered_map<std::uint64_t, int> label_slot;
-    std::vector<double> slot_weight;
     std::vector<int> rows, cols;
     Eigen::MatrixXd log_detect;
     Eigen::VectorXd log_miss;
     std::vector<Pair, Eigen::aligned_allocator<Pair>> pairs;
-    std::vector<double> comp_log_w, track_weight;
-    std::vector<int> slot_of_track;
+    std::vector<double> comp_log_w;
     std::vector<char> detected;
   };
   static Workspace& workspace() {
@@ -296,53 +385,14 @@ class MhProposal {
     return ws;
   }
 
-  /// Step 1: in-view labels with η = existence probability and the ω-weighted moment match of their tracks.
-  void collect_landmarks(const GlmbMap<Meas>& map, const State& x_pred, const Covariance& P_pred,
-                         Workspace& ws) const {
-    ws.lm.clear();
-    const double pos_sigma = std::sqrt(std::max(0.0, P_pred.template topLeftCorner<2, 2>().trace()));
-    map.find_active(model_, x_pred, config_.fov_margin_sigmas * pos_sigma, ws.active);
-    ws.track_weight.assign(map.tracks.size(), 0.0);
-    bool any = false;
-    for (std::size_t t = 0; t < map.tracks.size(); ++t) any = any || ws.active[t];
-    if (!any) return;
-    for (const auto& h : map.hypotheses) {
-      const double w = std::exp(h.log_weight);
-      for (std::uint32_t t : h.tracks)
-        if (ws.active[t]) ws.track_weight[t] += w;
-    }
-    ws.label_slot.clear();
-    ws.slot_weight.clear();
-    // first pass: weights and weighted means per label
-    std::vector<int>& slot_of_track = ws.slot_of_track;
-    slot_of_track.assign(map.tracks.size(), -1);
-    for (std::size_t t = 0; t < map.tracks.size(); ++t) {
-      if (!ws.active[t] || ws.track_weight[t] <= 0.0) continue;
-      const auto [it, inserted] =
-          ws.label_slot.emplace(map.tracks[t].label.key(), static_cast<int>(ws.lm.size()));
-      if (inserted) {
-        Landmark lm;
-        lm.mean.setZero();
-        lm.cov.setZero();
-        ws.lm.push_back(lm);
-        ws.slot_weight.push_back(0.0);
-      }
-      const int s = it->second;
-      slot_of_track[t] = s;
-      ws.slot_weight[s] += ws.track_weight[t];
-      ws.lm[s].mean += ws.track_weight[t] * map.tracks[t].mean;
-    }
-    for (std::size_t s = 0; s < ws.lm.size(); ++s) ws.lm[s].mean /= ws.slot_weight[s];
-    for (std::size_t t = 0; t < map.tracks.size(); ++t) {
-      const int s = slot_of_track[t];
-      if (s < 0) continue;
-      const auto d = (map.tracks[t].mean - ws.lm[s].mean).eval();
-      ws.lm[s].cov += ws.track_weight[t] * (map.tracks[t].cov + d * d.transpose());
-    }
-    for (std::size_t s = 0; s < ws.lm.size(); ++s) {
+  /// Per landmark: η = min(1, weight), p_D at x̄, log(η p_D) and log(1 − η p_D).
+  void set_landmarks(const MhLandmarkList<Meas>& in, const State& x_pred, Workspace& ws) const {
+    ws.lm.resize(in.size());
+    for (std::size_t s = 0; s < in.size(); ++s) {
       Landmark& lm = ws.lm[s];
-      lm.cov /= ws.slot_weight[s];
-      const double eta = std::min(1.0, ws.slot_weight[s]);
+      lm.mean = in[s].mean;
+      lm.cov = in[s].cov;
+      const double eta = std::min(1.0, in[s].weight);
       const double pd = model_.detection_probability(x_pred, lm.mean);
       const double eta_pd = eta * pd;
       lm.log_detect = eta_pd > 0.0 ? std::log(eta_pd) : kLogZero;

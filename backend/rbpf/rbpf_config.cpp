@@ -7,7 +7,7 @@ void load_rbpf_config(ConfigNode node, RbpfConfig& config) {
   int seed = static_cast<int>(config.seed);
   node.read_in_range("seed", seed, 0, 2147483647);
   config.seed = static_cast<std::uint64_t>(seed);
-  node.read_choice("proposal", config.proposal, {"prior", "optimal"});
+  node.read_choice("proposal", config.proposal, {"prior", "optimal", "mh"});
   node.read_choice("weighting", config.weighting, {"importance", "paper"});
   node.read_choice("resampling", config.resampling, {"always", "ess"});
   node.read_in_range("ess_threshold", config.ess_threshold, 0.0, 1.0);

@@ -9,9 +9,12 @@
 namespace glmbslam::backend {
 
 struct RbpfConfig {
-  int particles = 10;                    ///< N_s
-  std::uint64_t seed = 0;                ///< all randomness derives from (seed, step, particle)
-  std::string proposal = "optimal";      ///< "prior" (δ-GLMB-SLAM 1.0) or "optimal" (2.0, digest 0.5)
+  int particles = 10;      ///< N_s
+  std::uint64_t seed = 0;  ///< all randomness derives from (seed, step, particle)
+  /// "prior" (δ-GLMB-SLAM 1.0), "optimal" (2.0, digest 0.5) or "mh" (paper 003's multi-hypothesis importance
+  /// density, mh_proposal.hpp; its settings, MhProposalConfig, are passed to the GlmbSlam constructor — in
+  /// the YAML files of `glmbslam run` (Victoria Park) and `glmbslam sim` they are the top-level section "mh")
+  std::string proposal = "optimal";
   std::string weighting = "importance";  ///< "importance": w·Ĝ(x)·f(x|x⁻,u)/q(x); "paper": Eq. 33 as printed
   std::string resampling = "always";  ///< "always" (every step, paper 000) or "ess" (when ESS < threshold)
   double ess_threshold = 0.5;         ///< fraction of N_s below which "ess" resampling triggers

@@ -1,5 +1,6 @@
 // `glmbslam sim`: Monte Carlo runs of the papers' 2D simulations (paper2019, phdslam3) with
-// δ-GLMB-SLAM 2.0/1.0 or RB-PHD-SLAM 1.0; writes metrics.json and plots (app/sim_runner.hpp).
+// δ-GLMB-SLAM 2.0/1.0 (optimal/prior proposal) or with the multi-hypothesis proposal, RB-PHD-SLAM 1.0,
+// PHD-SLAM 3.0 or dead reckoning; writes metrics.json and plots (app/sim_runner.hpp).
 #include <iostream>
 
 #include "app/commands.hpp"
@@ -13,16 +14,18 @@ void register_sim_command(CLI::App& app) {
       app.add_subcommand("sim", "Monte Carlo runs of the 2D simulations (paper 000, paper 003 benchmark)");
   cmd->add_option("--scenario", options->scenario, "paper2019 or phdslam3")->capture_default_str();
   cmd->add_option("--algorithm", options->algorithm,
-                  "glmb2 (δ-GLMB-SLAM 2.0), glmb1 (1.0), glmb_mh (multi-hypothesis proposal), phd1 "
-                  "(RB-PHD-SLAM 1.0), dr "
-                  "(dead reckoning)")
+                  "glmb2 (δ-GLMB-SLAM 2.0), glmb1 (1.0), glmb_mh (δ-GLMB map with the multi-hypothesis "
+                  "proposal of paper 003), phd1 (RB-PHD-SLAM 1.0), phd3 (PHD-SLAM 3.0: GM-PHD map with the "
+                  "multi-hypothesis proposal), dr (dead reckoning)")
       ->capture_default_str();
   cmd->add_option("--particles", options->particles, "particles per filter")->capture_default_str();
   cmd->add_option("--runs", options->runs, "Monte Carlo runs (run in parallel)")->capture_default_str();
   cmd->add_option("--clutter", options->clutter, "clutter rate λ_c per scan (paper2019; default 5)");
   cmd->add_option("--seed", options->seed, "filter seed base (run r uses seed·1000003 + r)")
       ->capture_default_str();
-  cmd->add_option("--config", options->config_file, "YAML with optional 'rbpf' and 'phd' mappings");
+  cmd->add_option(
+      "--config", options->config_file,
+      "YAML with optional 'rbpf', 'phd' (phd1, phd3) and 'mh' (multi-hypothesis proposal) mappings");
   cmd->add_option("--out", options->out_dir, "output folder (metrics.json, PNG plots)")->required();
   cmd->add_option("--data", options->data_dir, "shared data root (default $GLMBSLAM_DATA or ../shared/data)");
   cmd->add_option("--max-steps", options->max_steps, "only the first N steps (0 = all)")

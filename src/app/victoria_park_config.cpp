@@ -17,6 +17,13 @@ VictoriaParkConfig default_victoria_park_config() {
   c.rbpf.glmb.gate_threshold = 41.4465;  // paper 003: χ² 1 − 1e-9
   c.rbpf.ess_threshold = 0.1;  // ESS < 0.1·N: resample only on (near) degeneracy, like paper 003's T_ESS = 1
   c.phd.resampling = "ess";
+  // phd3 = PHD-SLAM 3.0 as published for Victoria Park (paper 003 Sec. VI-B, digest 2.6): Eq. 46 likelihood,
+  // resampling only on (near) degeneracy (T_ESS = 1 particle = 0.1·N for N = 10), map threshold (1 − 0.7)²
+  c.phd3.proposal = "mh";
+  c.phd3.likelihood = "poisson";
+  c.phd3.resampling = "ess";
+  c.phd3.ess_threshold = 0.1;
+  c.phd3.existence_threshold = 0.09;
   return c;
 }
 
@@ -25,7 +32,8 @@ void load_victoria_park_config(const std::string& path, VictoriaParkConfig& conf
 }
 
 void load_victoria_park_config(ConfigNode node, VictoriaParkConfig& config) {
-  node.read_choice("algorithm", config.algorithm, {"glmb2", "glmb1", "glmb-mh", "phd1", "deadreckoning"});
+  node.read_choice("algorithm", config.algorithm,
+                   {"glmb2", "glmb1", "glmb-mh", "phd1", "phd3", "deadreckoning"});
   if (node.has("initial_pose")) {
     std::vector<double> p;
     node.read("initial_pose", p);
@@ -51,6 +59,7 @@ void load_victoria_park_config(ConfigNode node, VictoriaParkConfig& config) {
   backend::load_rbpf_config(node.child("rbpf"), config.rbpf);
   backend::load_mh_proposal_config(node.child("mh"), config.mh);
   backend::load_phd_config(node.child("phd"), config.phd);
+  backend::load_phd_config(node.child("phd3"), config.phd3);
   node.finish();
 }
 

@@ -1,6 +1,8 @@
 // `glmbslam run PATH_TO_victoria_park/` (run_options.hpp): the Victoria Park benchmark of paper 003
 // (Sec. VI-B) with δ-GLMB-SLAM (glmb2 = optimal-kernel proposal, glmb1 = prior proposal, glmb-mh = the
-// multi-hypothesis importance density), RB-PHD-SLAM 1.0 (phd1, backend/phd) or dead reckoning.
+// multi-hypothesis importance density of paper 003, backend/rbpf/mh_proposal.hpp), RB-PHD-SLAM 1.0 (phd1,
+// backend/phd), PHD-SLAM 3.0 (phd3 = the GM-PHD map with the multi-hypothesis importance density) or dead
+// reckoning.
 //
 // Steps: one per laser scan of VictoriaParkSinSincronizar.mat (scans with no tree detection are skipped when
 // skip_empty_scans, as in the published protocol's code); the control of a step integrates the 40 Hz odometry
@@ -33,7 +35,6 @@
 #include "app/run_options.hpp"
 #include "app/victoria_park_config.hpp"
 #include "app/victoria_park_data.hpp"
-#include "app/victoria_park_mh_filter.hpp"
 #include "backend/models/ackermann_motion.hpp"
 #include "backend/models/victoria_park_measurement.hpp"
 #include "backend/phd/phd_slam.hpp"
@@ -226,16 +227,17 @@ int run_victoria_park(const RunOptions& options) {
     std::string a = *options.algorithm;
     if (a == "glmb_mh") a = "glmb-mh";  // the spelling of `glmbslam sim`
     if (a == "dr") a = "deadreckoning";
-    if (a != "glmb2" && a != "glmb1" && a != "glmb-mh" && a != "phd1" && a != "deadreckoning")
+    if (a == "phd3_mh" || a == "phd-mh") a = "phd3";
+    if (a != "glmb2" && a != "glmb1" && a != "glmb-mh" && a != "phd1" && a != "phd3" && a != "deadreckoning")
       throw ConfigError(
-          "--algorithm for Victoria Park must be glmb2, glmb1, glmb-mh, phd1 or deadreckoning (got '" + a +
-          "')");
+          "--algorithm for Victoria Park must be glmb2, glmb1, glmb-mh, phd1, phd3 or deadreckoning (got '" +
+          a + "')");
     cfg.algorithm = a;
   }
   if (options.first_frame != 0)
     throw ConfigError("--frames for Victoria Park must start at 0 (the filter starts at the first GPS fix)");
   if (cfg.threads > 0) set_thread_count(cfg.threads);
-  cfg.rbpf.proposal = cfg.algorithm == "glmb1" ? "prior" : "optimal";
+  cfg.rbpf.proposal = cfg.algorithm == "glmb1" ? "prior" : cfg.algorithm == "glmb-mh" ? "mh" : "optimal";
 
   const io::VictoriaParkData data = io::read_victoria_park(options.dataset);
   const io::GpsFilterResult filt = io::filter_gps_outliers(data.gps_raw, cfg.gps);
@@ -268,18 +270,16 @@ int run_victoria_park(const RunOptions& options) {
   if (cfg.algorithm == "deadreckoning") {
     DeadReckoning f(motion, cfg.initial_pose);
     rec = run_filter(f, controls, measurements, 1);
-  } else if (cfg.algorithm == "phd1") {
-    backend::PhdConfig phd = cfg.phd;
+  } else if (cfg.algorithm == "phd1" || cfg.algorithm == "phd3") {
+    backend::PhdConfig phd = cfg.algorithm == "phd3" ? cfg.phd3 : cfg.phd;
     phd.particles = cfg.rbpf.particles;
     phd.seed = cfg.rbpf.seed;
+    phd.proposal = cfg.algorithm == "phd3" ? "mh" : "prior";
     backend::validate_phd_config(phd);
-    backend::PhdSlam<Motion, Meas> f(motion, model, phd, cfg.initial_pose);
+    backend::PhdSlam<Motion, Meas> f(motion, model, phd, cfg.initial_pose, cfg.mh);
     rec = run_filter(f, controls, measurements, phd.particles);
-  } else if (cfg.algorithm == "glmb-mh") {
-    GlmbMhSlam<Motion, Meas> f(motion, model, cfg.rbpf, cfg.mh, cfg.initial_pose);
-    rec = run_filter(f, controls, measurements, cfg.rbpf.particles);
   } else {
-    backend::GlmbSlam<Motion, Meas> f(motion, model, cfg.rbpf, cfg.initial_pose);
+    backend::GlmbSlam<Motion, Meas> f(motion, model, cfg.rbpf, cfg.initial_pose, cfg.mh);
     rec = run_filter(f, controls, measurements, cfg.rbpf.particles);
   }
   write_outputs(options.out_dir, cfg, options, data, filt.fixes, times, rec, filt);
