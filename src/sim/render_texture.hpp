@@ -1,15 +1,21 @@
 #pragma once
-// Procedural textures of the synthetic stereo world: deterministic functions of the texture coordinates
-// (a, b) (metres on the surface) and the surface seed, so the same world point always has the same albedo
-// (a revisited place looks the same). Each pattern layer is band-limited by the pixel footprint `fp` (metres
-// covered by one pixel on the surface): layers finer than a few pixels fade to their mean, and rectangle
-// edges are blurred over one footprint (analytic anti-aliasing), which keeps corners stable from frame to
-// frame.
+// Textures of the synthetic stereo world: deterministic functions of the texture coordinates (a, b) (metres
+// on the surface) and the surface seed, so the same world point always has the same albedo (a revisited
+// place looks the same). Each pattern is band-limited by the pixel footprint (metres covered by one pixel on
+// the surface): the rectangle pattern ("Mondrian", texture_tile.hpp) is a precomputed mip-mapped tile
+// sampled trilinearly at the footprint's level of detail; window grids, bands and discs are evaluated
+// analytically with their edges blurred over one footprint (analytic anti-aliasing), which keeps corners
+// stable from frame to frame.
+//
+// Per surface and frame a SurfaceTexture is prepared once (tile offsets, gains, scales); the per-pixel
+// albedo() is then a handful of arithmetic operations and one trilinear tile lookup.
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 
 #include "sim/stereo_world.hpp"
+#include "sim/texture_tile.hpp"
 
 namespace glmbslam::sim::texture {
 
@@ -45,124 +51,167 @@ inline std::int32_t fast_floor(float x) {
   return i - static_cast<std::int32_t>(x < static_cast<float>(i));
 }
 
+/// Piecewise-linear log2 of a positive normal float (exact at powers of two, continuous, monotone, error
+/// below 0.09): enough to pick a mip level.
+inline float fast_log2(float x) {
+  std::uint32_t bits;
+  std::memcpy(&bits, &x, sizeof(bits));
+  const auto e = static_cast<std::int32_t>(bits >> 23) - 127;
+  const std::uint32_t mbits = (bits & 0x007FFFFFU) | 0x3F800000U;
+  float m;
+  std::memcpy(&m, &mbits, sizeof(m));
+  return static_cast<float>(e) + (m - 1.0f);
+}
+
 /// Weight of a pattern layer of characteristic size `scale` for footprint `fp`: 0 below 4 pixels, 1 above 8.
 inline float layer_weight(float scale, float fp) {
   return clamp01(scale / (4.0f * fp) - 1.0f);
 }
 
-/// Smooth value noise in [0, 1] with lattice spacing 1.
-inline float value_noise(float x, float y, std::uint32_t seed) {
-  const std::int32_t ix = fast_floor(x);
-  const std::int32_t iy = fast_floor(y);
-  float tx = x - static_cast<float>(ix);
-  float ty = y - static_cast<float>(iy);
-  tx = tx * tx * (3.0f - 2.0f * tx);
-  ty = ty * ty * (3.0f - 2.0f * ty);
-  const float v00 = unit(hash_cell(ix, iy, seed));
-  const float v10 = unit(hash_cell(ix + 1, iy, seed));
-  const float v01 = unit(hash_cell(ix, iy + 1, seed));
-  const float v11 = unit(hash_cell(ix + 1, iy + 1, seed));
-  const float a = v00 + (v10 - v00) * tx;
-  const float b = v01 + (v11 - v01) * tx;
-  return a + (b - a) * ty;
+/// Per-surface texture parameters, prepared once per frame.
+struct SurfaceTexture {
+  TextureKind kind = TextureKind::kConstant;
+  float albedo = 0.5f;
+  float contrast = 0.0f;
+  float param0 = 1.0f;
+  float param1 = 1.0f;
+  std::uint32_t seed = 0;
+  // Rectangle tile: value = tile_base + tile_gain·code at texel coordinates (u, v): the surface axes scaled
+  // to texels, possibly mirrored and swapped, plus an offset (all drawn from the seed).
+  const MipTile* tile = nullptr;  ///< null: no rectangle pattern
+  float tile_base = 0.0f;
+  float tile_gain = 0.0f;
+  float ua = 1.0f, ub = 0.0f, va = 0.0f, vb = 1.0f;  // (u, v) = [ua ub; va vb]·(a, b) + off, texels
+  float off_u = 0.0f, off_v = 0.0f;
+  float lod_bias = 0.0f;  // log2(texels per metre)
+  // Façade windows.
+  float inv_param0 = 1.0f, inv_param1 = 1.0f;
+  float window_half_cell = 0.0f;  // min(param0, param1)/2
+};
+
+/// Texel scale of the rectangle pattern on a surface of kind `kind`: metres per pattern unit.
+inline float pattern_scale(const Surface& s) {
+  switch (s.kind) {
+    case TextureKind::kGround:
+    case TextureKind::kFacade:
+      return 0.9f;
+    case TextureKind::kMondrian:
+      return s.param0;
+    case TextureKind::kFoliage:
+      return 0.7f;
+    default:
+      return 1.0f;
+  }
 }
 
-/// One rectangle per square cell of size `cell`, random extent and signed intensity in [−1, 1], on a zero
-/// background; edges anti-aliased over the footprint.
-inline float rect_layer(float a, float b, float cell, std::uint32_t seed, float inv_fp) {
-  const float inv_cell = 1.0f / cell;
-  const float ga = a * inv_cell;
-  const float gb = b * inv_cell;
-  const std::int32_t ia = fast_floor(ga);
-  const std::int32_t ib = fast_floor(gb);
-  const float la = ga - static_cast<float>(ia);  // in cell units
-  const float lb = gb - static_cast<float>(ib);
-  const std::uint32_t h = hash_cell(ia, ib, seed);
-  constexpr float k = 0.36f / 255.0f;
-  const float x0 = 0.04f + k * static_cast<float>(static_cast<std::int32_t>(h & 0xFFU));
-  const float x1 = 0.60f + k * static_cast<float>(static_cast<std::int32_t>((h >> 8) & 0xFFU));
-  const float y0 = 0.04f + k * static_cast<float>(static_cast<std::int32_t>((h >> 16) & 0xFFU));
-  const float y1 = 0.60f + k * static_cast<float>(static_cast<std::int32_t>(h >> 24));
-  const float scale = cell * inv_fp;  // cell units → pixels
-  const float cx = clamp01(std::min(la - x0, x1 - la) * scale + 0.5f);
-  const float cy = clamp01(std::min(lb - y0, y1 - lb) * scale + 0.5f);
-  const float v = 2.0f * unit(mix32(h + 0x68E31DA4U)) - 1.0f;
-  return v * cx * cy;
+inline SurfaceTexture prepare_texture(const Surface& s) {
+  SurfaceTexture t;
+  t.kind = s.kind;
+  t.albedo = s.albedo;
+  t.contrast = s.contrast;
+  t.param0 = s.param0;
+  t.param1 = s.param1;
+  t.seed = s.seed;
+  t.inv_param0 = 1.0f / s.param0;
+  t.inv_param1 = 1.0f / s.param1;
+  t.window_half_cell = 0.5f * std::min(s.param0, s.param1);
+  float amplitude = 0.0f;
+  bool patterned = true;
+  switch (s.kind) {
+    case TextureKind::kGround:
+      amplitude = 0.9f * s.contrast;
+      break;
+    case TextureKind::kFacade:
+      amplitude = 0.5f * s.contrast;
+      break;
+    case TextureKind::kMondrian:
+    case TextureKind::kFoliage:
+      amplitude = s.contrast;
+      break;
+    default:
+      patterned = false;
+      break;
+  }
+  if (patterned) {
+    t.tile = &MipTile::mondrian();
+    t.tile_base = s.albedo + amplitude * MipTile::kDecodeOffset;
+    t.tile_gain = amplitude * MipTile::kDecodeScale;
+    const float texels_per_metre = static_cast<float>(MipTile::kTexelsPerUnit) / pattern_scale(s);
+    const std::uint32_t h = mix32(s.seed ^ 0xA511E9B3U);
+    const auto mask = static_cast<std::uint32_t>(MipTile::kSize - 1);
+    t.off_u = static_cast<float>(h & mask);
+    t.off_v = static_cast<float>((h >> MipTile::kLog2Size) & mask);
+    const float su = ((h >> 29) & 1U) != 0 ? -texels_per_metre : texels_per_metre;
+    const float sv = ((h >> 30) & 1U) != 0 ? -texels_per_metre : texels_per_metre;
+    if (((h >> 28) & 1U) != 0) {
+      t.ua = 0.0f, t.ub = sv, t.va = su, t.vb = 0.0f;
+    } else {
+      t.ua = su, t.ub = 0.0f, t.va = 0.0f, t.vb = sv;
+    }
+    t.lod_bias = std::log2(texels_per_metre);
+  }
+  return t;
 }
 
-/// Rectangle layers at three scales (coarse to fine), weighted by the footprint.
-inline float mondrian(float a, float b, float scale, std::uint32_t seed, float fp, int layers = 2) {
-  const float inv_fp = 1.0f / fp;
-  const float q = 0.25f * inv_fp;
-  float v = 0.0f;
-  float w = clamp01(scale * q - 1.0f);
-  if (w > 0.0f) v += w * rect_layer(a, b, scale, seed, inv_fp);
-  w = clamp01(0.33f * scale * q - 1.0f);
-  if (w > 0.0f)
-    v += 0.8f * w * rect_layer(a + 0.37f * scale, b + 0.11f * scale, scale * 0.33f, seed + 1U, inv_fp);
-  if (layers < 3) return v;
-  w = clamp01(0.11f * scale * q - 1.0f);
-  if (w > 0.0f) v += 0.6f * w * rect_layer(a, b, scale * 0.11f, seed + 2U, inv_fp);
+/// Rectangle tile contribution (albedo units) at (a, b) for the squared footprint fp2 (metres²).
+inline float tile_albedo(const SurfaceTexture& t, float a, float b, float fp2) {
+  const float lod = 0.5f * fast_log2(fp2) + t.lod_bias;
+  const float u = t.ua * a + t.ub * b + t.off_u;
+  const float v = t.va * a + t.vb * b + t.off_v;
+  return t.tile_base + t.tile_gain * t.tile->sample(MipTile::to_fixed(u), MipTile::to_fixed(v), lod);
+}
+
+/// Façade windows: a grid of cells param0 × param1 metres, each with a window (dark glass, some lit) over
+/// the background value v; faded out below 4 pixels per half cell, edges blurred over one footprint.
+inline float facade_windows(const SurfaceTexture& t, float v, float a, float b, float fp2) {
+  const float inv_fp = 1.0f / std::sqrt(fp2);
+  const float ww = clamp01(t.window_half_cell * 0.25f * inv_fp - 1.0f);  // layer_weight(min(cw, ch)/2, fp)
+  if (ww > 0.0f) {
+    const float cw = t.param0;
+    const float ch = t.param1;
+    const float ga = a * t.inv_param0;
+    const float gb = b * t.inv_param1;
+    const std::int32_t ia = fast_floor(ga);
+    const std::int32_t ib = fast_floor(gb);
+    const float la = (ga - static_cast<float>(ia)) * cw;
+    const float lb = (gb - static_cast<float>(ib)) * ch;
+    const std::uint32_t h = hash_cell(ia, ib, t.seed + 7U);
+    const float cx = clamp01(std::min(la - 0.22f * cw, 0.78f * cw - la) * inv_fp + 0.5f);
+    const float cy = clamp01(std::min(lb - 0.25f * ch, 0.80f * ch - lb) * inv_fp + 0.5f);
+    const float r = unit(h);
+    const float glass = r < 0.7f ? 0.06f + 0.3f * r : 0.55f + 1.2f * (r - 0.7f);
+    v += ww * cx * cy * (glass - v);
+  }
   return v;
 }
 
-/// Albedo in [0, 1] of surface `s` at texture coordinates (a, b) for pixel footprint `fp` (metres).
-inline float albedo(const Surface& s, float a, float b, float fp) {
-  const float c = s.contrast;
-  float v = s.albedo;
-  switch (s.kind) {
-    case TextureKind::kConstant:
-      break;
-    case TextureKind::kGround: {
-      v += 0.25f * c * rect_layer(a, b, 4.1f, s.seed + 13U, 1.0f / fp);
-      v += 0.9f * c * mondrian(a, b, 0.9f, s.seed + 11U, fp);
-      break;
-    }
-    case TextureKind::kFacade: {
-      const float cw = s.param0;
-      const float ch = s.param1;
-      v += 0.5f * c * mondrian(a, b, 0.9f, s.seed + 3U, fp);
-      const float ww = layer_weight(std::min(cw, ch) * 0.5f, fp);
-      if (ww > 0.0f) {
-        const float ga = a / cw;
-        const float gb = b / ch;
-        const std::int32_t ia = fast_floor(ga);
-        const std::int32_t ib = fast_floor(gb);
-        const float la = (ga - static_cast<float>(ia)) * cw;
-        const float lb = (gb - static_cast<float>(ib)) * ch;
-        const std::uint32_t h = hash_cell(ia, ib, s.seed + 7U);
-        const float inv_fp = 1.0f / fp;
-        const float cx = clamp01(std::min(la - 0.22f * cw, 0.78f * cw - la) * inv_fp + 0.5f);
-        const float cy = clamp01(std::min(lb - 0.25f * ch, 0.80f * ch - lb) * inv_fp + 0.5f);
-        const float r = unit(h);
-        const float glass = r < 0.7f ? 0.06f + 0.3f * r : 0.55f + 1.2f * (r - 0.7f);
-        v += ww * cx * cy * (glass - v);
-      }
-      break;
-    }
-    case TextureKind::kMondrian:
-      v += c * mondrian(a, b, s.param0, s.seed, fp, 3);
+/// Albedo in [0, 1] at texture coordinates (a, b) for the squared pixel footprint fp2 (metres²).
+inline float albedo(const SurfaceTexture& t, float a, float b, float fp2) {
+  float v = t.tile != nullptr ? tile_albedo(t, a, b, fp2) : t.albedo;
+  switch (t.kind) {
+    case TextureKind::kFacade:
+      v = facade_windows(t, v, a, b, fp2);
       break;
     case TextureKind::kBands: {
-      const float p = s.param0;
+      const float p = t.param0;
+      const float fp = std::sqrt(fp2);
       const float w = layer_weight(p * 0.5f, fp);
       if (w > 0.0f) {
-        const float t = b / p;
-        const float fr = t - static_cast<float>(fast_floor(t));
+        const float q = b / p;
+        const float fr = q - static_cast<float>(fast_floor(q));
         const float sd = fr < 0.5f ? std::min(fr, 0.5f - fr) * p : -std::min(fr - 0.5f, 1.0f - fr) * p;
         const float cov = clamp01(sd / fp + 0.5f);
-        v += c * w * (2.0f * cov - 1.0f);
+        v += t.contrast * w * (2.0f * cov - 1.0f);
       }
       break;
     }
-    case TextureKind::kFoliage:
-      v += c * mondrian(a, b, 0.7f, s.seed, fp);
-      break;
     case TextureKind::kDisc: {
       const float d = std::sqrt(a * a + b * b);
-      v += c * clamp01((s.param0 - d) / fp + 0.5f);
+      v += t.contrast * clamp01((t.param0 - d) / std::sqrt(fp2) + 0.5f);
       break;
     }
+    default:
+      break;
   }
   return clamp01(v);
 }

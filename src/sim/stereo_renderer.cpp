@@ -6,12 +6,11 @@
 
 #include "core/error.hpp"
 #include "core/random.hpp"
+#include "sim/pixel_noise.hpp"
 #include "sim/render_texture.hpp"
 
 namespace glmbslam::sim {
 namespace {
-
-constexpr std::size_t kNoiseTableSize = 1U << 16;
 
 struct Vertex {
   double x, y, z;
@@ -46,9 +45,35 @@ StereoRenderer::StereoRenderer(const StereoWorld& world, const StereoCalibration
   const std::size_t n = static_cast<std::size_t>(calib_.width) * static_cast<std::size_t>(calib_.height);
   inv_depth_.resize(n);
   surface_id_.resize(n);
-  noise_table_.resize(kNoiseTableSize);
-  RandomStream rng(options_.seed, 0x6e6f697365ULL);  // "noise"
-  for (float& v : noise_table_) v = static_cast<float>(rng.normal());
+  const double W = calib_.width, H = calib_.height, cx = calib_.cx, cy = calib_.cy;
+  const double r_corner2 = std::max(cx * cx, (W - cx) * (W - cx)) + std::max(cy * cy, (H - cy) * (H - cy));
+  const double vig = options_.photometric.vignetting / r_corner2;
+  const auto w = static_cast<std::size_t>(calib_.width);
+  const std::size_t padded = (w + 3) / 4 * 4;
+  ray_x_.resize(w);
+  vignette_x_.assign(padded, 0.0f);
+  row_albedo_.assign(padded, 0.0f);
+  for (std::size_t c = 0; c < w; ++c) {
+    const double dx = static_cast<double>(c) - cx;
+    ray_x_[c] = static_cast<float>(dx / calib_.fx);
+    vignette_x_[c] = static_cast<float>(vig * dx * dx);
+  }
+  ray_norm_.resize(n);
+  for (int row = 0; row < calib_.height; ++row) {
+    const double ry = (row - cy) / calib_.fy;
+    for (std::size_t c = 0; c < w; ++c) {
+      const double rx = ray_x_[c];
+      ray_norm_[static_cast<std::size_t>(row) * w + c] =
+          static_cast<float>(std::sqrt(rx * rx + ry * ry + 1.0));
+    }
+  }
+  span_u_.resize(w);
+  span_v_.resize(w);
+  span_lod_.resize(w);
+  span_a_.resize(w);
+  span_b_.resize(w);
+  span_fp2_.resize(w);
+  texture::MipTile::mondrian();  // build the shared tile now rather than inside the first frame
 }
 
 void StereoRenderer::render(const Pose3& T_world_left, double time, std::uint64_t frame_id,
@@ -106,7 +131,7 @@ void StereoRenderer::rasterise(const Pose3& T_cam_world, const SurfaceList& surf
     if (m < 3) continue;
 
     Prepared p;
-    p.surface = &s;
+    p.texture = texture::prepare_texture(s);
     p.A = nc.x() / (fx * d);
     p.B = nc.y() / (fy * d);
     p.C = (nc.z() - nc.x() * cx / fx - nc.y() * cy / fy) / d;
@@ -180,63 +205,164 @@ void StereoRenderer::shade(const Pose3& T_world_cam, std::uint64_t frame_id, int
                            cv::Mat* depth) {
   const int W = calib_.width;
   const int H = calib_.height;
-  const double fx = calib_.fx, fy = calib_.fy, cx = calib_.cx, cy = calib_.cy;
+  const double fy = calib_.fy, cy = calib_.cy;
   image.create(H, W, CV_8UC1);
   if (depth != nullptr) depth->create(H, W, CV_32FC1);
   const PhotometricOptions& ph = options_.photometric;
 
-  // Per-frame, per-camera exposure and the noise stream.
+  // Per-frame, per-camera exposure and the noise streams.
   RandomStream rng(options_.seed, frame_id * 2 + static_cast<std::uint64_t>(camera));
   const double gain = ph.exposure_sigma > 0.0 ? std::exp(ph.exposure_sigma * rng.normal()) : 1.0;
-  std::uint32_t noise_state = static_cast<std::uint32_t>(rng.engine()()) | 1U;
-  const bool noisy = ph.noise_sigma > 0.0;
-  const float noise_sigma = static_cast<float>(ph.noise_sigma);
+  PixelNoise noise(rng.engine()(), rng.engine()(), static_cast<float>(ph.noise_sigma));
 
   // Sky: brighter towards the zenith (few features).
   const Eigen::Vector3d up_cam = T_world_cam.linear().transpose() * world_.up();
-  const double r_corner2 = std::max(cx * cx, (W - cx) * (W - cx)) + std::max(cy * cy, (H - cy) * (H - cy));
+  const auto upx = static_cast<float>(up_cam.x()), upy = static_cast<float>(up_cam.y()),
+             upz = static_cast<float>(up_cam.z());
+  const double r_corner2 = std::max(calib_.cx * calib_.cx, (W - calib_.cx) * (W - calib_.cx)) +
+                           std::max(cy * cy, (H - cy) * (H - cy));
   const double vig = ph.vignetting / r_corner2;
-  const auto inv_fx = static_cast<float>(1.0 / fx);
+  const auto inv_fx2 = static_cast<float>(1.0 / (calib_.fx * calib_.fx));
+  const auto g = static_cast<float>(255.0 * gain);
+  const float* rx = ray_x_.data();
+  float* albedo = row_albedo_.data();
+  std::int32_t* su = span_u_.data();
+  std::int32_t* sv = span_v_.data();
+  float* slod = span_lod_.data();
+  float* sa = span_a_.data();
+  float* sb = span_b_.data();
+  float* sfp2 = span_fp2_.data();
 
   for (int row = 0; row < H; ++row) {
     auto* img = image.ptr<std::uint8_t>(row);
     float* dep = depth != nullptr ? depth->ptr<float>(row) : nullptr;
-    const double ry = (row - cy) / fy;
+    const double ry_d = (row - cy) / fy;
+    const auto ry = static_cast<float>(ry_d);
+    const float ry2p1 = ry * ry + 1.0f;
     const std::size_t base = static_cast<std::size_t>(row) * static_cast<std::size_t>(W);
-    for (int col = 0; col < W; ++col) {
-      const std::size_t k = base + static_cast<std::size_t>(col);
-      const std::int32_t id = surface_id_[k];
-      const double rx = (col - cx) / fx;
-      const double r2 = rx * rx + ry * ry + 1.0;
-      double value;
+    const std::int32_t* ids = surface_id_.data() + base;
+    const float* rn = ray_norm_.data() + base;
+    int col = 0;
+    while (col < W) {
+      const std::int32_t id = ids[col];
+      int end = col + 1;
+      while (end < W && ids[end] == id) ++end;
+      const int n = end - col;
       if (id < 0) {
-        const double elev = (rx * up_cam.x() + ry * up_cam.y() + up_cam.z()) / std::sqrt(r2);
-        value = 0.80 + 0.12 * std::clamp(elev * 2.5, -0.5, 1.0);
-        if (dep != nullptr) dep[col] = 0.0f;
+        const float sky_row = ry * upy + upz;
+        for (int c = col; c < end; ++c) {
+          const float elev = (rx[c] * upx + sky_row) / rn[c];
+          albedo[c] = 0.80f + 0.12f * std::clamp(elev * 2.5f, -0.5f, 1.0f);
+        }
+        if (dep != nullptr) std::fill(dep + col, dep + end, 0.0f);
+        col = end;
+        continue;
+      }
+      const Prepared& p = prepared_[static_cast<std::size_t>(id)];
+      const texture::SurfaceTexture& t = p.texture;
+      // 1/z, a/z and b/z are affine in the pixel coordinates; evaluated in double at the span start and
+      // stepped in float inside the span (relative error ~1e-7).
+      const double w0 = p.A * col + p.B * row + p.C;
+      const double na0 = p.Au * col + p.Bu * row + p.Cu;
+      const double nb0 = p.Av * col + p.Bv * row + p.Cv;
+      const auto nx = static_cast<float>(p.nx);
+      const auto n_row = static_cast<float>(p.ny * ry_d + p.nz);
+      if (t.tile != nullptr) {
+        // Tile texel coordinates u = ua·a + ub·b + off_u (likewise v), so u/z is affine too.
+        const auto w0f = static_cast<float>(w0), dw = static_cast<float>(p.A);
+        const auto nu0 = static_cast<float>(t.ua * na0 + t.ub * nb0 + t.off_u * w0);
+        const auto du = static_cast<float>(t.ua * p.Au + t.ub * p.Av + t.off_u * p.A);
+        const auto nv0 = static_cast<float>(t.va * na0 + t.vb * nb0 + t.off_v * w0);
+        const auto dv = static_cast<float>(t.va * p.Au + t.vb * p.Av + t.off_v * p.A);
+        const float lod_bias = t.lod_bias;
+        const float* rxs = rx + col;
+        const float* rns = rn + col;
+        float* deps = dep != nullptr ? dep + col : nullptr;
+        int k = 0;
+#if defined(__SSE2__)
+        {
+          const __m128 vw0 = _mm_set1_ps(w0f), vdw = _mm_set1_ps(dw), vnu0 = _mm_set1_ps(nu0),
+                       vdu = _mm_set1_ps(du), vnv0 = _mm_set1_ps(nv0), vdv = _mm_set1_ps(dv),
+                       vfix = _mm_set1_ps(256.0f), vry2p1 = _mm_set1_ps(ry2p1), vnx = _mm_set1_ps(nx),
+                       vnrow = _mm_set1_ps(n_row), vmin = _mm_set1_ps(1e-3f), vfx2 = _mm_set1_ps(inv_fx2),
+                       vone = _mm_set1_ps(1.0f), vhalf = _mm_set1_ps(0.5f), vbias = _mm_set1_ps(lod_bias),
+                       vabs = _mm_castsi128_ps(_mm_set1_epi32(0x7FFFFFFF)), vfour = _mm_set1_ps(4.0f);
+          const __m128i mant = _mm_set1_epi32(0x007FFFFF), one_bits = _mm_set1_epi32(0x3F800000),
+                        exp_bias = _mm_set1_epi32(127);
+          __m128 kf = _mm_setr_ps(0.0f, 1.0f, 2.0f, 3.0f);
+          for (; k + 4 <= n; k += 4, kf = _mm_add_ps(kf, vfour)) {
+            const __m128 iz = _mm_div_ps(vone, _mm_add_ps(vw0, _mm_mul_ps(vdw, kf)));
+            const __m128 u = _mm_mul_ps(_mm_add_ps(vnu0, _mm_mul_ps(vdu, kf)), iz);
+            const __m128 v = _mm_mul_ps(_mm_add_ps(vnv0, _mm_mul_ps(vdv, kf)), iz);
+            _mm_storeu_si128(reinterpret_cast<__m128i*>(su + k), _mm_cvttps_epi32(_mm_mul_ps(u, vfix)));
+            _mm_storeu_si128(reinterpret_cast<__m128i*>(sv + k), _mm_cvttps_epi32(_mm_mul_ps(v, vfix)));
+            const __m128 rxv = _mm_loadu_ps(rxs + k);
+            const __m128 r2 = _mm_add_ps(_mm_mul_ps(rxv, rxv), vry2p1);
+            const __m128 ndr = _mm_max_ps(_mm_and_ps(_mm_add_ps(_mm_mul_ps(vnx, rxv), vnrow), vabs), vmin);
+            const __m128 fp2 = _mm_div_ps(
+                _mm_mul_ps(_mm_mul_ps(_mm_mul_ps(_mm_mul_ps(iz, iz), r2), _mm_loadu_ps(rns + k)), vfx2), ndr);
+            _mm_storeu_ps(sfp2 + k, fp2);
+            const __m128i bits = _mm_castps_si128(fp2);
+            const __m128i e = _mm_sub_epi32(_mm_srli_epi32(bits, 23), exp_bias);
+            const __m128 m = _mm_castsi128_ps(_mm_or_si128(_mm_and_si128(bits, mant), one_bits));
+            const __m128 lg = _mm_add_ps(_mm_cvtepi32_ps(e), _mm_sub_ps(m, vone));
+            _mm_storeu_ps(slod + k, _mm_add_ps(_mm_mul_ps(vhalf, lg), vbias));
+            if (deps != nullptr) _mm_storeu_ps(deps + k, iz);
+          }
+        }
+#endif
+        for (; k < n; ++k) {
+          const auto kf = static_cast<float>(k);
+          const float iz = 1.0f / (w0f + dw * kf);  // depth z
+          su[k] = texture::MipTile::to_fixed((nu0 + du * kf) * iz);
+          sv[k] = texture::MipTile::to_fixed((nv0 + dv * kf) * iz);
+          // Squared footprint (metres per pixel on the surface): z·|r|/fx across the ray divided by √cosθ
+          // (geometric mean of the two axes on the surface), cosθ = |n·r|/|r|.
+          const float r2 = rxs[k] * rxs[k] + ry2p1;
+          const float n_dot_r = std::max(std::abs(nx * rxs[k] + n_row), 1e-3f);
+          const float fp2 = iz * iz * r2 * rns[k] * inv_fx2 / n_dot_r;
+          sfp2[k] = fp2;
+          slod[k] = 0.5f * texture::fast_log2(fp2) + lod_bias;
+          if (deps != nullptr) deps[k] = iz;
+        }
+        const texture::MipTile& tile = *t.tile;
+        float* out = albedo + col;
+        if (t.kind == TextureKind::kFacade) {
+          const auto a0 = static_cast<float>(na0), da = static_cast<float>(p.Au);
+          const auto b0 = static_cast<float>(nb0), db = static_cast<float>(p.Av);
+          for (int k = 0; k < n; ++k) {
+            const auto kf = static_cast<float>(k);
+            const float iz = 1.0f / (w0f + dw * kf);
+            sa[k] = (a0 + da * kf) * iz;
+            sb[k] = (b0 + db * kf) * iz;
+          }
+          tile.sample_span(su, sv, slod, n, out);
+          for (int k = 0; k < n; ++k) {
+            const float v = t.tile_base + t.tile_gain * out[k];
+            out[k] = texture::clamp01(texture::facade_windows(t, v, sa[k], sb[k], sfp2[k]));
+          }
+        } else {
+          tile.sample_span(su, sv, slod, n, out);
+          for (int k = 0; k < n; ++k) out[k] = texture::clamp01(t.tile_base + t.tile_gain * out[k]);
+        }
       } else {
-        const Prepared& p = prepared_[static_cast<std::size_t>(id)];
-        const double w = p.A * col + p.B * row + p.C;
-        const double z = 1.0 / w;
-        const double a = (p.Au * col + p.Bu * row + p.Cu) * z;
-        const double b = (p.Av * col + p.Bv * row + p.Cv) * z;
-        // Footprint: z·|r|/fx across the ray, divided by √cosθ (geometric mean of the two axes on the
-        // surface).
-        const float rn = std::sqrt(static_cast<float>(r2));
-        const float cos_t = std::max(std::abs(static_cast<float>(p.nx * rx + p.ny * ry + p.nz)) / rn, 1e-3f);
-        const float fp = static_cast<float>(z) * rn * inv_fx / std::sqrt(cos_t);
-        value = texture::albedo(*p.surface, static_cast<float>(a), static_cast<float>(b), fp);
-        if (dep != nullptr) dep[col] = static_cast<float>(z);
+        // Analytic textures (bands, discs, constant): exact per-pixel evaluation in double.
+        for (int c = col; c < end; ++c) {
+          const double z = 1.0 / (p.A * c + p.B * row + p.C);
+          const auto a = static_cast<float>((p.Au * c + p.Bu * row + p.Cu) * z);
+          const auto b = static_cast<float>((p.Av * c + p.Bv * row + p.Cv) * z);
+          const float r2 = rx[c] * rx[c] + ry2p1;
+          const float n_dot_r = std::max(std::abs(nx * rx[c] + n_row), 1e-3f);
+          const auto zf = static_cast<float>(z);
+          albedo[c] = texture::albedo(t, a, b, zf * zf * r2 * rn[c] * inv_fx2 / n_dot_r);
+          if (dep != nullptr) dep[c] = zf;
+        }
       }
-      const double dx = col - cx, dy = row - cy;
-      float out = static_cast<float>(255.0 * gain * value * (1.0 - vig * (dx * dx + dy * dy)));
-      if (noisy) {
-        noise_state ^= noise_state << 13;
-        noise_state ^= noise_state >> 17;
-        noise_state ^= noise_state << 5;
-        out += noise_sigma * noise_table_[noise_state >> 16];
-      }
-      img[col] = static_cast<std::uint8_t>(std::clamp(out, 0.0f, 255.0f) + 0.5f);
+      col = end;
     }
+    // Photometry: exposure gain, vignetting 1 − vig·r², noise, rounding.
+    const double dy = row - cy;
+    noise.apply_row(albedo, vignette_x_.data(), g, static_cast<float>(1.0 - vig * dy * dy), W, img);
   }
 }
 

@@ -1,15 +1,17 @@
 #pragma once
 // Rasteriser of the synthetic stereo world: every visible surface is clipped to the near plane, projected
 // and scan-converted with a z-buffer (1/z is affine in pixel coordinates on a plane, so depth and texture
-// coordinates are exact per pixel); a deferred pass then evaluates the procedural texture once per pixel.
-// Pixel centres are at integer coordinates: a camera-frame point X appears at u = fx·X/Z + cx, v = fy·Y/Z +
-// cy. The right camera sits at +baseline along the left camera's x axis with the same intrinsics (rectified).
+// coordinates are exact per pixel); a deferred pass then evaluates the texture once per pixel, row by row in
+// spans of one surface. Pixel centres are at integer coordinates: a camera-frame point X appears at u =
+// fx·X/Z + cx, v = fy·Y/Z + cy. The right camera sits at +baseline along the left camera's x axis with the
+// same intrinsics (rectified).
 #include <cstdint>
 #include <vector>
 
 #include <opencv2/core.hpp>
 
 #include "core/types.hpp"
+#include "sim/render_texture.hpp"
 #include "sim/stereo_world.hpp"
 
 namespace glmbslam::sim {
@@ -55,7 +57,7 @@ class StereoRenderer {
 
  private:
   struct Prepared {
-    const Surface* surface;
+    texture::SurfaceTexture texture;
     double A, B, C;     // 1/z = A u + B v + C
     double Au, Bu, Cu;  // a/z
     double Av, Bv, Cv;  // b/z
@@ -71,7 +73,13 @@ class StereoRenderer {
   std::vector<Prepared> prepared_;
   std::vector<float> inv_depth_;
   std::vector<std::int32_t> surface_id_;
-  std::vector<float> noise_table_;
+  std::vector<float> ray_x_;       // (u − cx)/fx per column
+  std::vector<float> ray_norm_;    // |(x, y, 1)| of every pixel's ray
+  std::vector<float> vignette_x_;  // vignetting·(u − cx)²/r_corner² per column (padded to a multiple of 4)
+  std::vector<float> row_albedo_;  // albedo of one row before the photometric effects (padded)
+  // Span scratch: fixed-point tile coordinates, level of detail, metres on the surface, squared footprint.
+  std::vector<std::int32_t> span_u_, span_v_;
+  std::vector<float> span_lod_, span_a_, span_b_, span_fp2_;
 };
 
 }  // namespace glmbslam::sim

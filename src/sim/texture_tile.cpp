@@ -1,0 +1,170 @@
+#include "sim/texture_tile.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
+#include "sim/render_texture.hpp"
+
+namespace glmbslam::sim::texture {
+namespace {
+
+constexpr int kPeriodUnits = MipTile::kSize / MipTile::kTexelsPerUnit;  // 32 pattern units
+
+/// One rectangle per square cell of size `cell` (units; `cells` of them per period), random extent and
+/// signed intensity in [−1, 1] on a zero background; edges box-filtered over `footprint` units.
+double rect_layer_periodic(double x, double y, double cell, int cells, std::uint32_t seed, double footprint) {
+  const double gx = x / cell, gy = y / cell;
+  const double fx = std::floor(gx), fy = std::floor(gy);
+  const double lx = gx - fx, ly = gy - fy;
+  auto wrap = [cells](double f) {
+    const auto i = static_cast<std::int64_t>(f) % cells;
+    return static_cast<std::int32_t>(i < 0 ? i + cells : i);
+  };
+  const std::uint32_t h = hash_cell(wrap(fx), wrap(fy), seed);
+  constexpr double k = 0.36 / 255.0;
+  const double x0 = 0.04 + k * static_cast<double>(h & 0xFFU);
+  const double x1 = 0.60 + k * static_cast<double>((h >> 8) & 0xFFU);
+  const double y0 = 0.04 + k * static_cast<double>((h >> 16) & 0xFFU);
+  const double y1 = 0.60 + k * static_cast<double>(h >> 24);
+  const double scale = cell / footprint;  // cell units → footprints
+  const double cx = std::clamp(std::min(lx - x0, x1 - lx) * scale + 0.5, 0.0, 1.0);
+  const double cy = std::clamp(std::min(ly - y0, y1 - ly) * scale + 0.5, 0.0, 1.0);
+  const double v = 2.0 * static_cast<double>(unit(mix32(h + 0x68E31DA4U))) - 1.0;
+  return v * cx * cy;
+}
+
+}  // namespace
+
+float MipTile::pattern(double x, double y, double footprint) {
+  double v = rect_layer_periodic(x, y, 1.0, kPeriodUnits, 0x2F6B1D3AU, footprint);
+  v += 0.8 * rect_layer_periodic(x + 0.37, y + 0.11, 1.0 / 3.0, 3 * kPeriodUnits, 0x5A1C9E47U, footprint);
+  v += 0.6 * rect_layer_periodic(x, y, 1.0 / 9.0, 9 * kPeriodUnits, 0x0D93B2E5U, footprint);
+  return static_cast<float>(v);
+}
+
+const MipTile& MipTile::mondrian() {
+  static const MipTile tile;
+  return tile;
+}
+
+MipTile::MipTile() {
+  std::size_t total = 0;
+  for (int l = 0; l < kLevels; ++l) {
+    offset_[static_cast<std::size_t>(l)] = total;
+    const std::size_t n = static_cast<std::size_t>(kSize >> l);
+    total += n * n;
+    level_scale_[static_cast<std::size_t>(l)] = 1.0f / static_cast<float>(1 << l);
+  }
+  data_.resize(total);
+  // Level 0 in floating point at the texel centres, then 2×2 box averages.
+  std::vector<float> level(static_cast<std::size_t>(kSize) * kSize);
+  const double texel = 1.0 / kTexelsPerUnit;
+  for (int j = 0; j < kSize; ++j) {
+    for (int i = 0; i < kSize; ++i) {
+      level[static_cast<std::size_t>(j) * kSize + static_cast<std::size_t>(i)] =
+          pattern((i + 0.5) * texel, (j + 0.5) * texel, texel);
+    }
+  }
+  std::vector<float> next;
+  for (int l = 0; l < kLevels; ++l) {
+    const int n = kSize >> l;
+    std::uint8_t* out = data_.data() + offset_[static_cast<std::size_t>(l)];
+    for (std::size_t k = 0; k < static_cast<std::size_t>(n) * static_cast<std::size_t>(n); ++k) {
+      const float q = std::clamp((level[k] - kDecodeOffset) / kDecodeScale, 0.0f, 255.0f);
+      out[k] = static_cast<std::uint8_t>(q + 0.5f);
+    }
+    if (n == 1) {
+      mean_ = (level[0] - kDecodeOffset) / kDecodeScale;
+      break;
+    }
+    const int m = n / 2;
+    next.assign(static_cast<std::size_t>(m) * static_cast<std::size_t>(m), 0.0f);
+    for (int j = 0; j < m; ++j) {
+      for (int i = 0; i < m; ++i) {
+        const std::size_t a =
+            static_cast<std::size_t>(2 * j) * static_cast<std::size_t>(n) + static_cast<std::size_t>(2 * i);
+        next[static_cast<std::size_t>(j) * static_cast<std::size_t>(m) + static_cast<std::size_t>(i)] =
+            0.25f * (level[a] + level[a + 1] + level[a + static_cast<std::size_t>(n)] +
+                     level[a + static_cast<std::size_t>(n) + 1]);
+      }
+    }
+    level.swap(next);
+  }
+}
+
+void MipTile::sample_span(const std::int32_t* U, const std::int32_t* V, const float* lod, int n,
+                          float* out) const {
+  int k = 0;
+#if defined(__SSE2__)
+  // The arithmetic of sample() and bilinear(), four pixels at a time; texel fetches are scalar.
+  const __m128 zero = _mm_setzero_ps(), max_lod = _mm_set1_ps(kMaxLod), one = _mm_set1_ps(1.0f),
+               half = _mm_set1_ps(0.5f), inv256 = _mm_set1_ps(1.0f / 256.0f),
+               full = _mm_set1_ps(static_cast<float>(kSize)), total = _mm_set1_ps(4.0f * kSize * kSize),
+               four = _mm_set1_ps(4.0f), third = _mm_set1_ps(3.0f);
+  const __m128i period = _mm_set1_epi32(kFixedPeriodMask), ione = _mm_set1_epi32(1),
+                exp127 = _mm_set1_epi32(127);
+  const std::uint8_t* base = data_.data();
+  alignas(16) std::int32_t idx[8][4];
+  alignas(16) std::int32_t val[8][4];
+  for (; k + 4 <= n; k += 4) {
+    const __m128 lc = _mm_min_ps(_mm_max_ps(_mm_loadu_ps(lod + k), zero), max_lod);
+    const __m128i l = _mm_cvttps_epi32(lc);
+    const __m128 t = _mm_sub_ps(lc, _mm_cvtepi32_ps(l));
+    const __m128 um = _mm_mul_ps(
+        _mm_cvtepi32_ps(_mm_and_si128(_mm_loadu_si128(reinterpret_cast<const __m128i*>(U + k)), period)),
+        inv256);
+    const __m128 vm = _mm_mul_ps(
+        _mm_cvtepi32_ps(_mm_and_si128(_mm_loadu_si128(reinterpret_cast<const __m128i*>(V + k)), period)),
+        inv256);
+    __m128 f[2][2];
+    for (int j = 0; j < 2; ++j) {
+      const __m128i level = _mm_add_epi32(l, _mm_set1_epi32(j));
+      const __m128 s = _mm_castsi128_ps(_mm_slli_epi32(_mm_sub_epi32(exp127, level), 23));  // 2^−level
+      const __m128 size = _mm_mul_ps(full, s);
+      const __m128i mask = _mm_sub_epi32(_mm_cvttps_epi32(size), ione);
+      // Level offset Σ_{i<level} (kSize/2^i)² = (4·kSize² − 4·size²)/3, exact in float.
+      const __m128i offset =
+          _mm_cvttps_epi32(_mm_div_ps(_mm_sub_ps(total, _mm_mul_ps(four, _mm_mul_ps(size, size))), third));
+      // Note (um·s)·(1/256) in sample() equals (um/256)·s: both scalings are exact powers of two.
+      const __m128 x = _mm_sub_ps(_mm_mul_ps(um, s), half);
+      const __m128 y = _mm_sub_ps(_mm_mul_ps(vm, s), half);
+      const __m128i xi = _mm_sub_epi32(_mm_cvttps_epi32(_mm_add_ps(x, one)), ione);
+      const __m128i yi = _mm_sub_epi32(_mm_cvttps_epi32(_mm_add_ps(y, one)), ione);
+      f[j][0] = _mm_sub_ps(x, _mm_cvtepi32_ps(xi));
+      f[j][1] = _mm_sub_ps(y, _mm_cvtepi32_ps(yi));
+      const __m128i x0 = _mm_and_si128(xi, mask);
+      const __m128i x1 = _mm_and_si128(_mm_add_epi32(xi, ione), mask);
+      const __m128i r0 =
+          _mm_add_epi32(offset, _mm_cvttps_epi32(_mm_mul_ps(_mm_cvtepi32_ps(_mm_and_si128(yi, mask)), size)));
+      const __m128i r1 = _mm_add_epi32(
+          offset,
+          _mm_cvttps_epi32(_mm_mul_ps(_mm_cvtepi32_ps(_mm_and_si128(_mm_add_epi32(yi, ione), mask)), size)));
+      _mm_store_si128(reinterpret_cast<__m128i*>(idx[4 * j + 0]), _mm_add_epi32(r0, x0));
+      _mm_store_si128(reinterpret_cast<__m128i*>(idx[4 * j + 1]), _mm_add_epi32(r0, x1));
+      _mm_store_si128(reinterpret_cast<__m128i*>(idx[4 * j + 2]), _mm_add_epi32(r1, x0));
+      _mm_store_si128(reinterpret_cast<__m128i*>(idx[4 * j + 3]), _mm_add_epi32(r1, x1));
+    }
+    for (int q = 0; q < 8; ++q) {
+      for (int lane = 0; lane < 4; ++lane) val[q][lane] = base[idx[q][lane]];
+    }
+    __m128 c[2];
+    for (int j = 0; j < 2; ++j) {
+      const __m128 v00 = _mm_cvtepi32_ps(_mm_load_si128(reinterpret_cast<const __m128i*>(val[4 * j + 0])));
+      const __m128 v10 = _mm_cvtepi32_ps(_mm_load_si128(reinterpret_cast<const __m128i*>(val[4 * j + 1])));
+      const __m128 v01 = _mm_cvtepi32_ps(_mm_load_si128(reinterpret_cast<const __m128i*>(val[4 * j + 2])));
+      const __m128 v11 = _mm_cvtepi32_ps(_mm_load_si128(reinterpret_cast<const __m128i*>(val[4 * j + 3])));
+      const __m128 top = _mm_add_ps(v00, _mm_mul_ps(f[j][0], _mm_sub_ps(v10, v00)));
+      const __m128 bottom = _mm_add_ps(v01, _mm_mul_ps(f[j][0], _mm_sub_ps(v11, v01)));
+      c[j] = _mm_add_ps(top, _mm_mul_ps(f[j][1], _mm_sub_ps(bottom, top)));
+    }
+    _mm_storeu_ps(out + k, _mm_add_ps(c[0], _mm_mul_ps(t, _mm_sub_ps(c[1], c[0]))));
+  }
+#endif
+  for (; k < n; ++k) out[k] = sample(U[k], V[k], lod[k]);
+}
+
+}  // namespace glmbslam::sim::texture
