@@ -11,6 +11,8 @@ void load_glmb_config(ConfigNode node, GlmbConfig& config) {
   node.read_in_range("max_hypotheses", config.max_hypotheses, 1, 1000000);
   node.read_in_range("prune_threshold", config.prune_threshold, 0.0, 1.0);
   node.read_in_range("fov_margin", config.fov_margin, 0.0, 1e9);
+  node.read_in_range("freeze_margin", config.freeze_margin, 0.0, 1e9);
+  node.read_in_range("freeze_min_tracks", config.freeze_min_tracks, 1, 1000000000);
   node.finish();
 }
 

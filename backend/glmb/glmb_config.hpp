@@ -13,6 +13,11 @@ struct GlmbConfig {
   int max_hypotheses = 100;       ///< H_max: hypotheses kept after pruning
   double prune_threshold = 1e-5;  ///< hypotheses with normalised weight below this are dropped (000)
   double fov_margin = 0.0;        ///< extra radius (m) beyond the sensor range for the active-track query
+  /// Frozen tracks (frozen_tracks.hpp): tracks in every hypothesis farther than query radius + fov_margin +
+  /// 2·freeze_margin leave the update until they come within query radius + fov_margin + freeze_margin.
+  /// Must exceed the sensor's motion per step plus 3σ of the predicted position; ≤ 0 disables freezing.
+  double freeze_margin = 0.0;
+  int freeze_min_tracks = 64;  ///< freeze only when at least this many tracks qualify (keeps blocks large)
 };
 
 /// Keys = member names. Unknown keys are errors.

@@ -8,10 +8,16 @@
 // A hypothesis holds its normalised log weight and the sorted indices of its tracks. Every track is
 // referenced by at least one hypothesis (the update compacts the table), so memory stays bounded. Maps are
 // immutable once built and shared between particles through shared_ptr<const GlmbMap>.
+//
+// Frozen tracks (frozen_tracks.hpp): tracks far from the sensor that belong to EVERY hypothesis leave the
+// table and the hypotheses for immutable blocks shared between maps (and particles, and time steps); every
+// hypothesis implicitly contains all of them. Out of view they would only be copied through unchanged, so
+// the update's cost depends on the live part of the map near the sensor, not on the whole map.
 #include <algorithm>
 #include <cstdint>
 #include <memory>
 #include <unordered_map>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
@@ -58,12 +64,35 @@ struct BirthCandidate {
   EIGEN_MAKE_ALIGNED_OPERATOR_NEW
 };
 
+/// An immutable block of frozen tracks with the bounding box of their landmark positions.
+template <class Meas>
+struct FrozenBlock {
+  using Position = std::decay_t<decltype(Meas::landmark_position(std::declval<typename Meas::Landmark>()))>;
+  std::vector<Track<Meas>, Eigen::aligned_allocator<Track<Meas>>> tracks;
+  Position lo, hi;
+  EIGEN_MAKE_ALIGNED_OPERATOR_NEW
+};
+template <class Meas>
+using FrozenBlockList = std::vector<std::shared_ptr<const FrozenBlock<Meas>>>;
+
 template <class Meas>
 struct GlmbMap {
   using TrackType = Track<Meas>;
   std::vector<TrackType, Eigen::aligned_allocator<TrackType>> tracks;
   std::vector<Hypothesis> hypotheses;  ///< sorted by decreasing weight
   std::vector<BirthCandidate<Meas>, Eigen::aligned_allocator<BirthCandidate<Meas>>> births;
+  std::shared_ptr<const FrozenBlockList<Meas>> frozen;  ///< in every hypothesis; null = none
+  std::size_t frozen_count = 0;                         ///< tracks in the frozen blocks
+
+  /// Live plus frozen tracks.
+  std::size_t total_tracks() const { return tracks.size() + frozen_count; }
+  /// Calls f(track) for every frozen track.
+  template <class F>
+  void for_each_frozen(F&& f) const {
+    if (!frozen) return;
+    for (const auto& b : *frozen)
+      for (const auto& t : b->tracks) f(t);
+  }
 
   /// The empty map: one hypothesis (the empty label set) with weight 1.
   static GlmbMap empty() {
@@ -97,13 +126,14 @@ struct LandmarkEstimate {
   EIGEN_MAKE_ALIGNED_OPERATOR_NEW
 };
 
-/// ρ(n) = Σ_{h: |I_h| = n} ω_h for n = 0..max.
+/// ρ(n) = Σ_{h: |I_h| = n} ω_h for n = 0..max, counting the frozen tracks (in every hypothesis).
 template <class Meas>
 std::vector<double> cardinality_distribution(const GlmbMap<Meas>& map) {
   std::vector<double> rho;
   for (const auto& h : map.hypotheses) {
-    if (rho.size() <= h.tracks.size()) rho.resize(h.tracks.size() + 1, 0.0);
-    rho[h.tracks.size()] += std::exp(h.log_weight);
+    const std::size_t n = h.tracks.size() + map.frozen_count;
+    if (rho.size() <= n) rho.resize(n + 1, 0.0);
+    rho[n] += std::exp(h.log_weight);
   }
   return rho;
 }
@@ -119,14 +149,23 @@ std::vector<LandmarkEstimate<Meas>, Eigen::aligned_allocator<LandmarkEstimate<Me
   const std::size_t n_hat = static_cast<std::size_t>(std::max_element(rho.begin(), rho.end()) - rho.begin());
   const Hypothesis* best = nullptr;
   for (const auto& h : map.hypotheses) {
-    if (h.tracks.size() == n_hat && (best == nullptr || h.log_weight > best->log_weight)) best = &h;
+    if (h.tracks.size() + map.frozen_count == n_hat && (best == nullptr || h.log_weight > best->log_weight))
+      best = &h;
   }
   std::unordered_map<std::uint64_t, double> existence;
   for (const auto& h : map.hypotheses) {
     const double w = std::exp(h.log_weight);
     for (std::uint32_t t : h.tracks) existence[map.tracks[t].label.key()] += w;
   }
-  out.reserve(best->tracks.size());
+  out.reserve(best->tracks.size() + map.frozen_count);
+  map.for_each_frozen([&](const Track<Meas>& tr) {
+    LandmarkEstimate<Meas> e;
+    e.label = tr.label;
+    e.mean = tr.mean;
+    e.cov = tr.cov;
+    e.existence = 1.0;  // in every hypothesis
+    out.push_back(e);
+  });
   for (std::uint32_t t : best->tracks) {
     const auto& tr = map.tracks[t];
     LandmarkEstimate<Meas> e;

@@ -14,7 +14,8 @@
 //  4. log Ĝ = log Σ children weights (the δ-GLMB normaliser, = g(Z|Z_{1:k−1}, x_{0:k}) / (e^{−λ} Π κ)).
 //  5. Duplicate children merged, normalised, pruned (relative weight < prune_threshold), capped at H_max,
 //     renormalised; the track table is compacted to the referenced tracks.
-//  6. Birth candidates for the next update from this scan (adaptive birth): r_B = birth_prob_explained for
+//  6. Far tracks in every hypothesis are frozen, frozen tracks near the sensor thawed (frozen_tracks.hpp).
+//  7. Birth candidates for the next update from this scan (adaptive birth): r_B = birth_prob_explained for
 //     a measurement that gated with an active track, birth_prob_unexplained otherwise.
 #include <algorithm>
 #include <cmath>
@@ -25,6 +26,7 @@
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
 
+#include "backend/glmb/frozen_tracks.hpp"
 #include "backend/glmb/gibbs_sampler.hpp"
 #include "backend/glmb/glmb_config.hpp"
 #include "backend/glmb/glmb_map.hpp"
@@ -268,11 +270,15 @@ class GlmbUpdater {
     // are in the same class and they chose the same ids.
     auto inactive_begin = [&](int p) { return ws.parent_inactive.begin() + ws.parent_inactive_begin[p]; };
     auto inactive_end = [&](int p) { return ws.parent_inactive.begin() + ws.parent_inactive_begin[p + 1]; };
+    // a parent's hash: the wrapping sum of per-id hashes over its out-of-view ids (independent additions
+    // that pipeline, unlike a chained hash); equal hashes are confirmed by comparing the lists
+    ws.id_hash.resize(n_old);
+    for (int t = 0; t < n_old; ++t)
+      ws.id_hash[t] = splitmix64(static_cast<std::uint64_t>(t) + 0x2545f4914f6cdd1dULL);
     ws.parent_hash.resize(n_parents);
     for (int p = 0; p < n_parents; ++p) {
-      std::uint64_t hsh =
-          0x9e3779b97f4a7c15ULL ^ static_cast<std::uint64_t>(inactive_end(p) - inactive_begin(p));
-      for (auto it = inactive_begin(p); it != inactive_end(p); ++it) hsh = splitmix64(hsh ^ *it);
+      std::uint64_t hsh = static_cast<std::uint64_t>(inactive_end(p) - inactive_begin(p));
+      for (auto it = inactive_begin(p); it != inactive_end(p); ++it) hsh += ws.id_hash[*it];
       ws.parent_hash[p] = hsh;
     }
     ws.parent_order.resize(n_parents);
@@ -369,8 +375,11 @@ class GlmbUpdater {
       for (auto& id : h.tracks) id = static_cast<std::uint32_t>(ws.new_index[id]);
     }
     if (posterior.hypotheses.empty()) posterior.hypotheses.push_back(Hypothesis{0.0, {}});
+    posterior.frozen = prior.frozen;
+    posterior.frozen_count = prior.frozen_count;
+    freeze_and_thaw(model_, config_, Meas::position(x), posterior, ws.scratch);
 
-    // 6. birth candidates for the next update
+    // 7. birth candidates for the next update
     posterior.births.clear();
     if (config_.births) {
       const double log_unexplained = std::log(config_.birth_prob_unexplained);
@@ -384,7 +393,7 @@ class GlmbUpdater {
       }
     }
     stats.hypotheses = static_cast<int>(posterior.hypotheses.size());
-    stats.tracks = static_cast<int>(posterior.tracks.size());
+    stats.tracks = static_cast<int>(posterior.total_tracks());
     return stats;
   }
 
@@ -402,7 +411,8 @@ class GlmbUpdater {
     std::vector<int> child_begin, order, new_index, child_parent;
     std::vector<std::uint32_t> parent_inactive;
     std::vector<int> parent_inactive_begin, parent_order, parent_class;
-    std::vector<std::uint64_t> parent_hash;
+    std::vector<std::uint64_t> parent_hash, id_hash;
+    std::vector<int> scratch;
     std::vector<double> child_log_w;
     std::vector<std::uint64_t> child_hash;
     std::vector<std::pair<int, double>> merged;
