@@ -19,6 +19,7 @@
 #include "io/kitti_odometry.hpp"
 #include "io/trajectory_io.hpp"
 #include "sim/default_trajectory.hpp"
+#include "sim/png_writer.hpp"
 #include "sim/stereo_procedural_world.hpp"
 
 namespace glmbslam::sim {
@@ -222,6 +223,7 @@ SequenceRenderSummary render_kitti_sequence(const SequenceRenderOptions& options
       std::vector<std::unique_ptr<StereoRenderer>> renderers(threads);
       std::vector<RenderedFrame> frames(threads);
       std::vector<cv::Mat> depth16(threads);
+      std::vector<PngScratch> png_scratch(threads);
       std::mutex mutex;
       std::exception_ptr failure;
       std::atomic<bool> failed{false};
@@ -236,8 +238,13 @@ SequenceRenderSummary render_kitti_sequence(const SequenceRenderOptions& options
           RenderedFrame& f = frames[slot];
           renderers[slot]->render(trajectory[i], static_cast<double>(i) / options.frame_rate, i, f,
                                   options.depth);
-          write_png(temp_dir / "image_0" / frame_name(j), f.left, png);
-          write_png(temp_dir / "image_1" / frame_name(j), f.right, png);
+          if (options.png_compression == 1) {
+            write_png_gray8(temp_dir / "image_0" / frame_name(j), f.left, png_scratch[slot]);
+            write_png_gray8(temp_dir / "image_1" / frame_name(j), f.right, png_scratch[slot]);
+          } else {
+            write_png(temp_dir / "image_0" / frame_name(j), f.left, png);
+            write_png(temp_dir / "image_1" / frame_name(j), f.right, png);
+          }
           if (options.depth) {
             cv::Mat& d16 = depth16[slot];
             d16.create(f.depth.rows, f.depth.cols, CV_16UC1);
