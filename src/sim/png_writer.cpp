@@ -130,31 +130,34 @@ std::vector<std::uint32_t> canonical_codes(const std::vector<int>& length) {
   return codes;
 }
 
+/// LSB-first bit writer into a preallocated buffer (the caller reserves enough room).
 class BitWriter {
  public:
-  explicit BitWriter(std::vector<std::uint8_t>& out) : out_(out) {}
+  explicit BitWriter(std::uint8_t* out) : out_(out), start_(out) {}
   void put(std::uint32_t bits, int n) {
     acc_ |= static_cast<std::uint64_t>(bits) << count_;
     count_ += n;
     if (count_ >= 32) {
       const auto word = static_cast<std::uint32_t>(acc_);
-      const std::size_t at = out_.size();
-      out_.resize(at + 4);
-      std::memcpy(out_.data() + at, &word, 4);  // little-endian: LSB first
+      std::memcpy(out_, &word, 4);  // little-endian: LSB first
+      out_ += 4;
       acc_ >>= 32;
       count_ -= 32;
     }
   }
-  void flush() {
+  /// Flushes the partial byte; returns the number of bytes written.
+  std::size_t finish() {
     while (count_ > 0) {
-      out_.push_back(static_cast<std::uint8_t>(acc_ & 0xFFU));
+      *out_++ = static_cast<std::uint8_t>(acc_ & 0xFFU);
       acc_ >>= 8;
       count_ = std::max(0, count_ - 8);
     }
+    return static_cast<std::size_t>(out_ - start_);
   }
 
  private:
-  std::vector<std::uint8_t>& out_;
+  std::uint8_t* out_;
+  std::uint8_t* start_;
   std::uint64_t acc_ = 0;
   int count_ = 0;
 };
@@ -227,7 +230,7 @@ void encode_png_gray8(const cv::Mat& image, PngScratch& scratch) {
 
   std::vector<std::uint8_t>& out = scratch.encoded;
   out.clear();
-  out.reserve(f.size() + f.size() / 2 + 1024);
+  out.reserve(2 * f.size() + 2048);
   static constexpr std::uint8_t kSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, '\n'};
   out.insert(out.end(), kSignature, kSignature + 8);
   std::uint8_t ihdr[13];
@@ -247,7 +250,10 @@ void encode_png_gray8(const cv::Mat& image, PngScratch& scratch) {
   out.push_back(0x78);  // zlib: deflate, 32 KiB window
   out.push_back(0x01);  // no dictionary, fastest; (0x78·256 + 0x01) % 31 == 0
   {
-    BitWriter bits(out);
+    // Worst case: 15 bits per byte plus the header (< 300 bytes).
+    const std::size_t at = out.size();
+    out.resize(at + 2 * f.size() + 1024);
+    BitWriter bits(out.data() + at);
     bits.put(1, 1);  // BFINAL
     bits.put(2, 2);  // dynamic Huffman
     bits.put(0, 5);  // HLIT = 257 − 257
@@ -276,7 +282,7 @@ void encode_png_gray8(const cv::Mat& image, PngScratch& scratch) {
     }
     for (; i < n; ++i) bits.put(code[f[i]], len[f[i]]);
     bits.put(lit_code[256], lit_len[256]);
-    bits.flush();
+    out.resize(at + bits.finish());
   }
   put_u32_be(out, adler32(f.data(), f.size()));
   const std::size_t idat_len = out.size() - idat_start - 8;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 #if defined(__SSE2__)
 #include <emmintrin.h>
@@ -55,7 +56,7 @@ MipTile::MipTile() {
   std::size_t total = 0;
   for (int l = 0; l < kLevels; ++l) {
     offset_[static_cast<std::size_t>(l)] = total;
-    const std::size_t n = static_cast<std::size_t>(kSize >> l);
+    const std::size_t n = static_cast<std::size_t>(kSize >> l) + 1;  // one extra column and row
     total += n * n;
     level_scale_[static_cast<std::size_t>(l)] = 1.0f / static_cast<float>(1 << l);
   }
@@ -73,9 +74,14 @@ MipTile::MipTile() {
   for (int l = 0; l < kLevels; ++l) {
     const int n = kSize >> l;
     std::uint8_t* out = data_.data() + offset_[static_cast<std::size_t>(l)];
-    for (std::size_t k = 0; k < static_cast<std::size_t>(n) * static_cast<std::size_t>(n); ++k) {
-      const float q = std::clamp((level[k] - kDecodeOffset) / kDecodeScale, 0.0f, 255.0f);
-      out[k] = static_cast<std::uint8_t>(q + 0.5f);
+    const std::size_t stride = static_cast<std::size_t>(n) + 1;
+    for (std::size_t j = 0; j <= static_cast<std::size_t>(n); ++j) {
+      for (std::size_t i = 0; i <= static_cast<std::size_t>(n); ++i) {
+        const std::size_t k = (j % static_cast<std::size_t>(n)) * static_cast<std::size_t>(n) +
+                              i % static_cast<std::size_t>(n);  // wrapped copy in the extra row/column
+        const float q = std::clamp((level[k] - kDecodeOffset) / kDecodeScale, 0.0f, 255.0f);
+        out[j * stride + i] = static_cast<std::uint8_t>(q + 0.5f);
+      }
     }
     if (n == 1) {
       mean_ = (level[0] - kDecodeOffset) / kDecodeScale;
@@ -100,16 +106,21 @@ void MipTile::sample_span(const std::int32_t* U, const std::int32_t* V, const fl
                           float* out) const {
   int k = 0;
 #if defined(__SSE2__)
-  // The arithmetic of sample() and bilinear(), four pixels at a time; texel fetches are scalar.
+  // The arithmetic of sample() and bilinear(), four pixels at a time; texel pairs fetched as 16-bit loads.
   const __m128 zero = _mm_setzero_ps(), max_lod = _mm_set1_ps(kMaxLod), one = _mm_set1_ps(1.0f),
                half = _mm_set1_ps(0.5f), inv256 = _mm_set1_ps(1.0f / 256.0f),
                full = _mm_set1_ps(static_cast<float>(kSize)), total = _mm_set1_ps(4.0f * kSize * kSize),
-               four = _mm_set1_ps(4.0f), third = _mm_set1_ps(3.0f);
+               four = _mm_set1_ps(4.0f), third = _mm_set1_ps(3.0f),
+               four_full = _mm_set1_ps(4.0f * static_cast<float>(kSize));
   const __m128i period = _mm_set1_epi32(kFixedPeriodMask), ione = _mm_set1_epi32(1),
-                exp127 = _mm_set1_epi32(127);
+                exp127 = _mm_set1_epi32(127), low_bytes = _mm_set1_epi16(0x00FF), izero = _mm_setzero_si128();
   const std::uint8_t* base = data_.data();
-  alignas(16) std::int32_t idx[8][4];
-  alignas(16) std::int32_t val[8][4];
+  alignas(16) std::int32_t idx[4][4];
+  auto pair = [base](std::int32_t i) {
+    std::uint16_t v;
+    std::memcpy(&v, base + i, 2);
+    return static_cast<int>(v);
+  };
   for (; k + 4 <= n; k += 4) {
     const __m128 lc = _mm_min_ps(_mm_max_ps(_mm_loadu_ps(lod + k), zero), max_lod);
     const __m128i l = _mm_cvttps_epi32(lc);
@@ -125,11 +136,15 @@ void MipTile::sample_span(const std::int32_t* U, const std::int32_t* V, const fl
       const __m128i level = _mm_add_epi32(l, _mm_set1_epi32(j));
       const __m128 s = _mm_castsi128_ps(_mm_slli_epi32(_mm_sub_epi32(exp127, level), 23));  // 2^−level
       const __m128 size = _mm_mul_ps(full, s);
-      const __m128i mask = _mm_sub_epi32(_mm_cvttps_epi32(size), ione);
-      // Level offset Σ_{i<level} (kSize/2^i)² = (4·kSize² − 4·size²)/3, exact in float.
-      const __m128i offset =
-          _mm_cvttps_epi32(_mm_div_ps(_mm_sub_ps(total, _mm_mul_ps(four, _mm_mul_ps(size, size))), third));
-      // Note (um·s)·(1/256) in sample() equals (um/256)·s: both scalings are exact powers of two.
+      const __m128i size_i = _mm_cvttps_epi32(size);
+      const __m128i mask = _mm_sub_epi32(size_i, ione);
+      const __m128i stride = _mm_add_epi32(size_i, ione);
+      // Level offset Σ_{i<level} (kSize/2^i + 1)² = (4·kSize² − 4·size²)/3 + 4·kSize − 4·size + level, exact.
+      const __m128 offset = _mm_add_ps(
+          _mm_add_ps(_mm_div_ps(_mm_sub_ps(total, _mm_mul_ps(four, _mm_mul_ps(size, size))), third),
+                     _mm_sub_ps(four_full, _mm_mul_ps(four, size))),
+          _mm_cvtepi32_ps(level));
+      // (um·s)·(1/256) in bilinear() equals (um/256)·s: both scalings are exact powers of two.
       const __m128 x = _mm_sub_ps(_mm_mul_ps(um, s), half);
       const __m128 y = _mm_sub_ps(_mm_mul_ps(vm, s), half);
       const __m128i xi = _mm_sub_epi32(_mm_cvttps_epi32(_mm_add_ps(x, one)), ione);
@@ -137,26 +152,29 @@ void MipTile::sample_span(const std::int32_t* U, const std::int32_t* V, const fl
       f[j][0] = _mm_sub_ps(x, _mm_cvtepi32_ps(xi));
       f[j][1] = _mm_sub_ps(y, _mm_cvtepi32_ps(yi));
       const __m128i x0 = _mm_and_si128(xi, mask);
-      const __m128i x1 = _mm_and_si128(_mm_add_epi32(xi, ione), mask);
-      const __m128i r0 =
-          _mm_add_epi32(offset, _mm_cvttps_epi32(_mm_mul_ps(_mm_cvtepi32_ps(_mm_and_si128(yi, mask)), size)));
-      const __m128i r1 = _mm_add_epi32(
-          offset,
-          _mm_cvttps_epi32(_mm_mul_ps(_mm_cvtepi32_ps(_mm_and_si128(_mm_add_epi32(yi, ione), mask)), size)));
-      _mm_store_si128(reinterpret_cast<__m128i*>(idx[4 * j + 0]), _mm_add_epi32(r0, x0));
-      _mm_store_si128(reinterpret_cast<__m128i*>(idx[4 * j + 1]), _mm_add_epi32(r0, x1));
-      _mm_store_si128(reinterpret_cast<__m128i*>(idx[4 * j + 2]), _mm_add_epi32(r1, x0));
-      _mm_store_si128(reinterpret_cast<__m128i*>(idx[4 * j + 3]), _mm_add_epi32(r1, x1));
-    }
-    for (int q = 0; q < 8; ++q) {
-      for (int lane = 0; lane < 4; ++lane) val[q][lane] = base[idx[q][lane]];
+      const __m128i y0 = _mm_and_si128(yi, mask);
+      const __m128i row = _mm_cvttps_epi32(_mm_mul_ps(_mm_cvtepi32_ps(y0), _mm_cvtepi32_ps(stride)));
+      const __m128i top = _mm_add_epi32(_mm_add_epi32(_mm_cvttps_epi32(offset), row), x0);
+      _mm_store_si128(reinterpret_cast<__m128i*>(idx[2 * j]), top);
+      _mm_store_si128(reinterpret_cast<__m128i*>(idx[2 * j + 1]), _mm_add_epi32(top, stride));
     }
     __m128 c[2];
     for (int j = 0; j < 2; ++j) {
-      const __m128 v00 = _mm_cvtepi32_ps(_mm_load_si128(reinterpret_cast<const __m128i*>(val[4 * j + 0])));
-      const __m128 v10 = _mm_cvtepi32_ps(_mm_load_si128(reinterpret_cast<const __m128i*>(val[4 * j + 1])));
-      const __m128 v01 = _mm_cvtepi32_ps(_mm_load_si128(reinterpret_cast<const __m128i*>(val[4 * j + 2])));
-      const __m128 v11 = _mm_cvtepi32_ps(_mm_load_si128(reinterpret_cast<const __m128i*>(val[4 * j + 3])));
+      // Eight 16-bit texel pairs: lanes 0–3 (v00, v10) of the top row, 4–7 (v01, v11) of the bottom row.
+      __m128i pairs = _mm_cvtsi32_si128(pair(idx[2 * j][0]));
+      pairs = _mm_insert_epi16(pairs, pair(idx[2 * j][1]), 1);
+      pairs = _mm_insert_epi16(pairs, pair(idx[2 * j][2]), 2);
+      pairs = _mm_insert_epi16(pairs, pair(idx[2 * j][3]), 3);
+      pairs = _mm_insert_epi16(pairs, pair(idx[2 * j + 1][0]), 4);
+      pairs = _mm_insert_epi16(pairs, pair(idx[2 * j + 1][1]), 5);
+      pairs = _mm_insert_epi16(pairs, pair(idx[2 * j + 1][2]), 6);
+      pairs = _mm_insert_epi16(pairs, pair(idx[2 * j + 1][3]), 7);
+      const __m128i left = _mm_and_si128(pairs, low_bytes);  // v00 ×4, v01 ×4
+      const __m128i right = _mm_srli_epi16(pairs, 8);        // v10 ×4, v11 ×4
+      const __m128 v00 = _mm_cvtepi32_ps(_mm_unpacklo_epi16(left, izero));
+      const __m128 v01 = _mm_cvtepi32_ps(_mm_unpackhi_epi16(left, izero));
+      const __m128 v10 = _mm_cvtepi32_ps(_mm_unpacklo_epi16(right, izero));
+      const __m128 v11 = _mm_cvtepi32_ps(_mm_unpackhi_epi16(right, izero));
       const __m128 top = _mm_add_ps(v00, _mm_mul_ps(f[j][0], _mm_sub_ps(v10, v00)));
       const __m128 bottom = _mm_add_ps(v01, _mm_mul_ps(f[j][0], _mm_sub_ps(v11, v01)));
       c[j] = _mm_add_ps(top, _mm_mul_ps(f[j][1], _mm_sub_ps(bottom, top)));

@@ -63,14 +63,16 @@ class MipTile {
     const std::int32_t yi = static_cast<std::int32_t>(y + 1.0f) - 1;
     const float fx = x - static_cast<float>(xi);
     const float fy = y - static_cast<float>(yi);
+    // Rows are stored with one extra column and one extra row (copies of the first): no wrap for +1.
+    const std::uint32_t stride = static_cast<std::uint32_t>(size) + 1U;
     const std::uint32_t x0 = static_cast<std::uint32_t>(xi) & mask;
-    const std::uint32_t x1 = static_cast<std::uint32_t>(xi + 1) & mask;
-    const auto r0 = static_cast<std::uint32_t>(
-        static_cast<float>(static_cast<std::int32_t>(static_cast<std::uint32_t>(yi) & mask)) * size);
-    const auto r1 = static_cast<std::uint32_t>(
-        static_cast<float>(static_cast<std::int32_t>(static_cast<std::uint32_t>(yi + 1) & mask)) * size);
-    const std::uint8_t* p = data_.data() + offset_[static_cast<std::size_t>(level)];
-    const float v00 = p[r0 + x0], v10 = p[r0 + x1], v01 = p[r1 + x0], v11 = p[r1 + x1];
+    const std::uint32_t y0 = static_cast<std::uint32_t>(yi) & mask;
+    const std::uint8_t* p =
+        data_.data() + offset_[static_cast<std::size_t>(level)] +
+        static_cast<std::uint32_t>(static_cast<float>(static_cast<std::int32_t>(y0)) *
+                                   static_cast<float>(static_cast<std::int32_t>(stride))) +
+        x0;
+    const float v00 = p[0], v10 = p[1], v01 = p[stride], v11 = p[stride + 1];
     const float top = v00 + fx * (v10 - v00);
     const float bottom = v01 + fx * (v11 - v01);
     return top + fy * (bottom - top);
@@ -78,8 +80,9 @@ class MipTile {
 
   /// Stored code of texel (i, j) of `level` (no wrapping: 0 ≤ i, j < kSize >> level).
   std::uint8_t texel(int level, int i, int j) const {
-    return data_[offset_[static_cast<std::size_t>(level)] +
-                 (static_cast<std::size_t>(j) << (kLog2Size - level)) + static_cast<std::size_t>(i)];
+    const std::size_t stride = static_cast<std::size_t>(kSize >> level) + 1;
+    return data_[offset_[static_cast<std::size_t>(level)] + static_cast<std::size_t>(j) * stride +
+                 static_cast<std::size_t>(i)];
   }
 
   /// The pattern value (before quantisation) at pattern coordinates (x, y) (units), box-filtered over
