@@ -4,6 +4,10 @@
 // of the predicted pose with p_D(mean) > 0 is one landmark of the MH-ID, with weight η = the component's GM
 // weight (the core caps it at 1) and the component's mean and covariance. Found by argument-dependent lookup
 // from MhProposal::build, so including this header is all PhdSlam needs.
+// Note: the core's miss term is the Bernoulli form log(1 − η p_D) for every map; paper 003's code uses
+// log(1 − p_D) for a GM component (η only in the detection entries, digest 2.4). Both agree for η = 1; for a
+// weak component (e.g. a fresh birth, η = 1e-6) ours makes "missed" nearly free instead of costing 1 − p_D in
+// every assignment (a common factor there unless the component is detected in some assignment).
 #include "backend/phd/gm_phd_map.hpp"
 #include "backend/rbpf/mh_proposal.hpp"
 

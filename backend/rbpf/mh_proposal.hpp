@@ -32,7 +32,7 @@
 // sample: t ~ Categorical(κ̃), then x ~ N(μ^t, Σ^t) (retracted on the pose manifold); log_density is the full
 // mixture log Σ_t κ̃^t N(x; μ^t, Σ^t), so the importance weight w·Ĝ(x)·f(x|x⁻,u)/q(x) uses the mixture (Eq.
 // 45). build() draws no random numbers: its result depends only on (map, x̄, P̄, Z), so particles that share a
-// parent (resampled copies) can reuse one result exactly (the caller decides; see GlmbSlam).
+// parent (resampled copies) can reuse one result exactly (GlmbSlam and PhdSlam build once per parent).
 #include <algorithm>
 #include <cmath>
 #include <limits>
