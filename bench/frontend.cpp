@@ -1,7 +1,8 @@
 // Frontend and VO speed on KITTI raw drive 0001 (1242×375, 2000 features): per-stage median and p95 over all
-// frames, one core (OpenCV threads = 1, left/right extraction sequential) and with the two extractions in
-// parallel, then Google Benchmark micro-benchmarks of the stages.
-// Run: bench_frontend [--benchmark_filter=...]   (GLMBSLAM_DATA overrides the data folder)
+// frames of the thread CPU time on one core (OpenCV threads = 1, left/right extraction in sequence), then the
+// wall time of the app's path (extractions in parallel), then Google Benchmark micro-benchmarks of the
+// stages. Run: bench_frontend [--benchmark_filter=...]   (GLMBSLAM_DATA overrides the data folder;
+//      GLMBSLAM_BENCH_CPU_ONLY=1 prints only the one-core CPU report, GLMBSLAM_BENCH_FRAMES=N uses N frames)
 #include <cstdio>
 #include <cstdlib>
 #include <ctime>
@@ -46,7 +47,9 @@ struct Pair {
 const std::vector<Pair>& frames() {
   static const std::vector<Pair> f = [] {
     std::vector<Pair> v;
-    for (int i = 0;; ++i) {
+    const char* limit = std::getenv("GLMBSLAM_BENCH_FRAMES");
+    const int max_frames = limit != nullptr ? std::atoi(limit) : 1 << 30;
+    for (int i = 0; i < max_frames; ++i) {
       char name[32];
       std::snprintf(name, sizeof name, "%010d.png", i);
       Pair p{cv::imread((drive_dir() / "image_00/data" / name).string(), cv::IMREAD_GRAYSCALE),
@@ -70,33 +73,64 @@ void print_stage(const char* name, const std::vector<double>& v) {
   std::printf("  %-34s median %7.2f ms   p95 %7.2f ms\n", name, s.median, s.p95);
 }
 
-void per_stage_report(bool parallel) {
-  frontend::FrontendConfig config;
-  config.orb.parallel = parallel;
+// One core: every stage on this thread (extractions in sequence), thread CPU time per stage.
+void cpu_stage_report() {
+  const frontend::FrontendConfig config;
+  const frontend::OrbExtractor extractor(config.orb);
+  const frontend::StereoFrontend fe(calibration(), config);
+  const frontend::StereoMatcher matcher(fe.camera(), config.stereo, extractor.scales());
+  frontend::StereoVisualOdometry vo(fe.camera(), config.vo, extractor.scales());
+  std::vector<double> extract_cpu, match_cpu, fe_cpu, vo_cpu, total_cpu;
+  std::vector<double> measurements, inliers;
+  for (const Pair& p : frames()) {
+    frontend::StereoFrameFeatures f;
+    const double c0 = thread_cpu_ms();
+    f.left = extractor.extract(p.left);
+    f.right = extractor.extract(p.right);
+    const double c1 = thread_cpu_ms();
+    f.measurements = matcher.match(f.left, f.right, &f.left_to_measurement, &f.stats);
+    const double c2 = thread_cpu_ms();
+    const frontend::VoEstimate e = vo.track(f);
+    const double c3 = thread_cpu_ms();
+    extract_cpu.push_back(c1 - c0);
+    match_cpu.push_back(c2 - c1);
+    fe_cpu.push_back(c2 - c0);
+    vo_cpu.push_back(c3 - c2);
+    total_cpu.push_back(c3 - c0);
+    measurements.push_back(static_cast<double>(f.measurements.size()));
+    inliers.push_back(e.inliers);
+  }
+  std::printf("one core, CPU time per frame, %zu frames:\n", frames().size());
+  print_stage("ORB extraction, both images", extract_cpu);
+  print_stage("stereo matching + triangulation", match_cpu);
+  print_stage("frontend (extract + match)", fe_cpu);
+  print_stage("VO", vo_cpu);
+  print_stage("frontend + VO", total_cpu);
+  std::printf("  stereo measurements per frame median %.0f, VO inliers median %.0f\n",
+              summarize(measurements).median, summarize(inliers).median);
+}
+
+// The app's path: StereoFrontend::process (left/right extraction on two threads), wall time.
+void parallel_wall_report() {
+  const frontend::FrontendConfig config;
   const frontend::StereoFrontend fe(calibration(), config);
   frontend::StereoVisualOdometry vo(fe.camera(), config.vo, fe.extractor().scales());
-  std::vector<double> fe_wall, fe_cpu, ex_wall, match_wall, vo_wall, vo_cpu;
+  std::vector<double> fe_wall, ex_wall, match_wall, vo_wall;
   for (const Pair& p : frames()) {
-    const double c0 = thread_cpu_ms();
     Stopwatch sw;
     const frontend::StereoFrameFeatures f = fe.process(p.left, p.right);
     fe_wall.push_back(sw.elapsed_ms());
-    fe_cpu.push_back(thread_cpu_ms() - c0);
     ex_wall.push_back(f.extract_ms);
     match_wall.push_back(f.match_ms);
-    const double c1 = thread_cpu_ms();
-    const frontend::VoEstimate e = vo.track(f);
-    vo_cpu.push_back(thread_cpu_ms() - c1);
-    vo_wall.push_back(e.ms);
+    vo_wall.push_back(vo.track(f).ms);
   }
-  std::printf("%s, %zu frames:\n", parallel ? "left/right extraction in parallel (2 threads)" : "one core",
-              frames().size());
-  print_stage("frontend wall (extract + match)", fe_wall);
-  if (!parallel) print_stage("frontend CPU time", fe_cpu);
-  print_stage("  ORB extraction, both images wall", ex_wall);
-  print_stage("  stereo matching wall", match_wall);
-  print_stage("VO wall", vo_wall);
-  print_stage("VO CPU time", vo_cpu);
+  std::printf(
+      "left/right extraction in parallel (2 threads), wall time (depends on machine load), %zu frames:\n",
+      frames().size());
+  print_stage("frontend (extract + match)", fe_wall);
+  print_stage("  ORB extraction, both images", ex_wall);
+  print_stage("  stereo matching", match_wall);
+  print_stage("VO", vo_wall);
 }
 
 void BM_OrbExtractOneImage(benchmark::State& state) {
@@ -149,8 +183,8 @@ int main(int argc, char** argv) {
     std::printf("KITTI raw drive 0001 not found under %s; set GLMBSLAM_DATA\n", drive_dir().string().c_str());
     return 0;
   }
-  per_stage_report(false);
-  per_stage_report(true);
+  cpu_stage_report();
+  if (std::getenv("GLMBSLAM_BENCH_CPU_ONLY") == nullptr) parallel_wall_report();
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();
   return 0;

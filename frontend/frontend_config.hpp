@@ -5,13 +5,13 @@
 
 namespace glmbslam::frontend {
 
-/// ORB extraction: FAST corners per grid cell on every pyramid level, spread over the image, ORB descriptors.
+/// ORB extraction: FAST corners on every pyramid level, spread over the image by a grid, steered BRIEF.
 struct OrbConfig {
   int features = 2000;         ///< target number of keypoints per image (all levels)
   int levels = 8;              ///< pyramid levels
   double scale_factor = 1.2;   ///< scale between consecutive levels
-  int fast_threshold = 20;     ///< FAST threshold tried first in each cell
-  int min_fast_threshold = 7;  ///< FAST threshold used in cells where the first finds nothing
+  int fast_threshold = 20;     ///< FAST threshold of the one pass over each level
+  int min_fast_threshold = 7;  ///< FAST threshold re-run in the cells where the first found nothing
   int cell_size = 35;          ///< grid cell size in pixels of each level
   int edge_threshold = 19;     ///< keypoints closer than this to the border of their level are not detected
   bool parallel = true;        ///< extract the left and right image concurrently (std::async)
@@ -45,8 +45,8 @@ struct VoConfig {
   double ransac_confidence = 0.99;      ///< RANSAC confidence
   double huber_delta = 2.0;             ///< Huber loss threshold on whitened residual norm (σ units)
   double chi2_threshold = 7.815;        ///< 3-dof χ² gate (95 %) for outlier rejection between rounds
-  int refine_rounds = 2;                ///< Ceres solve / reject rounds
-  int max_iterations = 10;              ///< Ceres iterations per round
+  int refine_rounds = 2;                ///< motion-only Gauss–Newton solve / reject rounds
+  int max_iterations = 10;              ///< Gauss–Newton iterations per round
   bool rematch_after_pnp = true;        ///< redo guided matching with the PnP pose before refinement
   double repeated_image_mean_abs_diff =
       0.5;                                  ///< left images closer than this (grey levels) count as repeated

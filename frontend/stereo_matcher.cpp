@@ -4,13 +4,15 @@
 #include <cmath>
 #include <limits>
 
+#include <opencv2/core/hal/intrin.hpp>
+
 namespace glmbslam::frontend {
 
 namespace {
 
 // SAD between (2w+1)² patches centred at (xl, y) in L and (xr, y) in R, each patch made relative to its own
 // centre pixel (robust to a brightness offset between the cameras). Caller guarantees the bounds.
-int patch_sad(const cv::Mat& L, const cv::Mat& R, int xl, int xr, int y, int w) {
+int patch_sad_scalar(const cv::Mat& L, const cv::Mat& R, int xl, int xr, int y, int w) {
   const int cl = L.at<uchar>(y, xl);
   const int cr = R.at<uchar>(y, xr);
   int sad = 0;
@@ -20,6 +22,38 @@ int patch_sad(const cv::Mat& L, const cv::Mat& R, int xl, int xr, int y, int w) 
     for (int dx = 0; dx <= 2 * w; ++dx) sad += std::abs((pl[dx] - cl) - (pr[dx] - cr));
   }
   return sad;
+}
+
+// SAD of the patch at (xl, y) in L against the patches at (x, y) in R for x = xr0 − radius … xr0 + radius
+// (sads[x − xr0 + radius]). 16 pixels per row in SIMD registers when the patch fits (2w + 1 ≤ 16) and the
+// 16-byte loads stay inside the rows; the scalar version otherwise (same result).
+void sad_search(const cv::Mat& L, const cv::Mat& R, int xl, int xr0, int y, int w, int radius, int* sads) {
+#if CV_SIMD128
+  if (2 * w + 1 <= 16 && xl - w + 16 <= L.cols && xr0 + radius - w + 16 <= R.cols) {
+    alignas(16) std::int16_t lane_mask[16];
+    for (int i = 0; i < 16; ++i) lane_mask[i] = i <= 2 * w ? -1 : 0;
+    const cv::v_int16x8 mask_lo = cv::v_load(lane_mask), mask_hi = cv::v_load(lane_mask + 8);
+    const int cl = L.at<uchar>(y, xl);
+    for (int inc = -radius; inc <= radius; ++inc) {
+      const int xr = xr0 + inc;
+      const cv::v_int16x8 c = cv::v_setall_s16(static_cast<short>(cl - R.at<uchar>(y, xr)));
+      cv::v_uint16x8 acc = cv::v_setzero_u16();
+      for (int dy = -w; dy <= w; ++dy) {
+        cv::v_uint16x8 l_lo, l_hi, r_lo, r_hi;
+        cv::v_expand(cv::v_load(L.ptr<uchar>(y + dy) + xl - w), l_lo, l_hi);
+        cv::v_expand(cv::v_load(R.ptr<uchar>(y + dy) + xr - w), r_lo, r_hi);
+        const cv::v_int16x8 d_lo = cv::v_reinterpret_as_s16(l_lo) - cv::v_reinterpret_as_s16(r_lo) - c;
+        const cv::v_int16x8 d_hi = cv::v_reinterpret_as_s16(l_hi) - cv::v_reinterpret_as_s16(r_hi) - c;
+        acc += cv::v_reinterpret_as_u16(cv::v_reinterpret_as_s16(cv::v_abs(d_lo)) & mask_lo) +
+               cv::v_reinterpret_as_u16(cv::v_reinterpret_as_s16(cv::v_abs(d_hi)) & mask_hi);
+      }
+      sads[inc + radius] = static_cast<int>(cv::v_reduce_sum(acc));
+    }
+    return;
+  }
+#endif
+  for (int inc = -radius; inc <= radius; ++inc)
+    sads[inc + radius] = patch_sad_scalar(L, R, xl, xr0 + inc, y, w);
 }
 
 }  // namespace
@@ -45,14 +79,40 @@ StereoMeasurementList StereoMatcher::match(const OrbFeatures& left, const OrbFea
   const double max_disparity = bf / config_.min_depth_m;
   const int levels = static_cast<int>(std::min(left.pyramid.size(), right.pyramid.size()));
 
-  // Row index: each right keypoint is listed on every row within its band.
-  std::vector<std::vector<int>> rows(static_cast<std::size_t>(height));
-  for (int j = 0; j < static_cast<int>(right.keypoints.size()); ++j) {
+  // Row index (compressed rows): each right keypoint is listed on every row within its band, each row's list
+  // sorted by u so that the disparity range is one contiguous run.
+  struct RowEntry {
+    float u;
+    int j;
+  };
+  std::vector<int> row_start(static_cast<std::size_t>(height) + 1, 0);
+  const int nr = static_cast<int>(right.keypoints.size());
+  std::vector<int> band_y0(static_cast<std::size_t>(nr)), band_y1(static_cast<std::size_t>(nr));
+  for (int j = 0; j < nr; ++j) {
     const auto& k = right.keypoints[static_cast<std::size_t>(j)];
     const double r = config_.row_band_px * scales_[static_cast<std::size_t>(k.octave)];
-    const int y0 = std::max(0, static_cast<int>(std::floor(k.pt.y - r)));
-    const int y1 = std::min(height - 1, static_cast<int>(std::ceil(k.pt.y + r)));
-    for (int y = y0; y <= y1; ++y) rows[static_cast<std::size_t>(y)].push_back(j);
+    band_y0[static_cast<std::size_t>(j)] = std::max(0, static_cast<int>(std::floor(k.pt.y - r)));
+    band_y1[static_cast<std::size_t>(j)] = std::min(height - 1, static_cast<int>(std::ceil(k.pt.y + r)));
+    for (int y = band_y0[static_cast<std::size_t>(j)]; y <= band_y1[static_cast<std::size_t>(j)]; ++y) {
+      ++row_start[static_cast<std::size_t>(y) + 1];
+    }
+  }
+  for (int y = 0; y < height; ++y)
+    row_start[static_cast<std::size_t>(y) + 1] += row_start[static_cast<std::size_t>(y)];
+  std::vector<RowEntry> row_entries(static_cast<std::size_t>(row_start.back()));
+  {
+    std::vector<int> fill(row_start.begin(), row_start.end() - 1);
+    for (int j = 0; j < nr; ++j) {
+      const float u = right.keypoints[static_cast<std::size_t>(j)].pt.x;
+      for (int y = band_y0[static_cast<std::size_t>(j)]; y <= band_y1[static_cast<std::size_t>(j)]; ++y) {
+        row_entries[static_cast<std::size_t>(fill[static_cast<std::size_t>(y)]++)] = {u, j};
+      }
+    }
+  }
+  for (int y = 0; y < height; ++y) {
+    std::sort(row_entries.begin() + row_start[static_cast<std::size_t>(y)],
+              row_entries.begin() + row_start[static_cast<std::size_t>(y) + 1],
+              [](const RowEntry& a, const RowEntry& b) { return a.u < b.u; });
   }
 
   struct Candidate {
@@ -64,6 +124,11 @@ StereoMeasurementList StereoMatcher::match(const OrbFeatures& left, const OrbFea
   const int w = config_.sad_half_window;
   const int radius = config_.sad_search_radius;
   std::vector<int> sads(static_cast<std::size_t>(2 * radius + 1));
+  struct Scored {
+    float u;
+    int distance;
+  };
+  std::vector<Scored> scored;
 
   for (int i = 0; i < nl; ++i) {
     const auto& kl = left.keypoints[static_cast<std::size_t>(i)];
@@ -73,31 +138,32 @@ StereoMeasurementList StereoMatcher::match(const OrbFeatures& left, const OrbFea
     const double u_min = u_l - max_disparity;
     const double u_max = u_l - min_disparity;
     const uchar* dl = left.descriptors.ptr<uchar>(i);
+    // Candidates: the row's entries with u in [u_min, u_max], octave and exact row band checked; distances
+    // kept for the ratio test.
+    const RowEntry* begin = row_entries.data() + row_start[static_cast<std::size_t>(row)];
+    const RowEntry* end = row_entries.data() + row_start[static_cast<std::size_t>(row) + 1];
+    begin = std::lower_bound(begin, end, u_min, [](const RowEntry& e, double u) { return e.u < u; });
     int best = std::numeric_limits<int>::max(), best_j = -1;
     double best_u = 0.0;
-    for (int j : rows[static_cast<std::size_t>(row)]) {
-      const auto& kr = right.keypoints[static_cast<std::size_t>(j)];
+    scored.clear();
+    for (const RowEntry* e = begin; e != end && e->u <= u_max; ++e) {
+      const auto& kr = right.keypoints[static_cast<std::size_t>(e->j)];
       if (std::abs(kr.octave - kl.octave) > config_.max_octave_difference) continue;
-      if (kr.pt.x < u_min || kr.pt.x > u_max) continue;
       if (std::abs(kr.pt.y - kl.pt.y) > config_.row_band_px * scales_[static_cast<std::size_t>(kr.octave)])
         continue;
-      const int d = hamming_distance(dl, right.descriptors.ptr<uchar>(j));
-      if (d < best) {
+      const int d = hamming_distance(dl, right.descriptors.ptr<uchar>(e->j));
+      scored.push_back({e->u, d});
+      if (d < best || (d == best && e->j < best_j)) {  // ties: lowest right index
         best = d;
-        best_j = j;
-        best_u = kr.pt.x;
+        best_j = e->j;
+        best_u = e->u;
       }
     }
     if (best_j < 0 || best >= config_.max_hamming) continue;
     if (config_.ratio < 1.0) {  // second best among candidates at least 2 px away from the best
       int second = std::numeric_limits<int>::max();
-      for (int j : rows[static_cast<std::size_t>(row)]) {
-        const auto& kr = right.keypoints[static_cast<std::size_t>(j)];
-        if (j == best_j || std::abs(kr.octave - kl.octave) > config_.max_octave_difference) continue;
-        if (kr.pt.x < u_min || kr.pt.x > u_max || std::abs(kr.pt.x - best_u) < 2.0) continue;
-        if (std::abs(kr.pt.y - kl.pt.y) > config_.row_band_px * scales_[static_cast<std::size_t>(kr.octave)])
-          continue;
-        second = std::min(second, hamming_distance(dl, right.descriptors.ptr<uchar>(j)));
+      for (const Scored& c : scored) {
+        if (std::abs(c.u - best_u) >= 2.0) second = std::min(second, c.distance);
       }
       if (second != std::numeric_limits<int>::max() && best >= config_.ratio * second) continue;
     }
@@ -116,10 +182,10 @@ StereoMeasurementList StereoMatcher::match(const OrbFeatures& left, const OrbFea
       ++st.rejected_subpixel;
       continue;
     }
+    sad_search(IL, IR, xl, xr0, yl, w, radius, sads.data());
     int best_sad = std::numeric_limits<int>::max(), best_inc = 0;
     for (int inc = -radius; inc <= radius; ++inc) {
-      const int s = patch_sad(IL, IR, xl, xr0 + inc, yl, w);
-      sads[static_cast<std::size_t>(inc + radius)] = s;
+      const int s = sads[static_cast<std::size_t>(inc + radius)];
       if (s < best_sad) {
         best_sad = s;
         best_inc = inc;

@@ -1,75 +1,98 @@
 #include "frontend/stereo_pose_refiner.hpp"
 
-#include <memory>
+#include <cmath>
 
-#include <ceres/ceres.h>
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
 
 #include "core/gaussian.hpp"
-#include "frontend/se3_manifold.hpp"
 
 namespace glmbslam::frontend {
 
 namespace {
 
-// Reference-frame observation: r = (π(X) − z) / σ; block: X (3).
-class ReferenceResidual : public ceres::SizedCostFunction<3, 3> {
- public:
-  ReferenceResidual(const StereoCamera& cam, const Eigen::Vector3d& z, double sigma)
-      : cam_(cam), z_(z), inv_sigma_(1.0 / sigma) {}
-  bool Evaluate(double const* const* p, double* r, double** J) const override {
-    const Eigen::Map<const Eigen::Vector3d> X(p[0]);
-    if (X.z() <= 1e-6) return false;
-    Eigen::Map<Eigen::Vector3d> res(r);
-    res = (cam_.project(X) - z_) * inv_sigma_;
-    if (J != nullptr && J[0] != nullptr) {
-      Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> J0(J[0]);
-      J0 = cam_.project_jacobian(X) * inv_sigma_;
-    }
-    return true;
-  }
-
- private:
-  const StereoCamera& cam_;
-  Eigen::Vector3d z_;
-  double inv_sigma_;
+struct Linearization {
+  double cost = 0.0;
+  Matrix6d H = Matrix6d::Zero();
+  Vector6d g = Vector6d::Zero();
+  int used = 0;
 };
 
-// Current-frame observation: r = (π(T⁻¹ X) − z) / σ, first D rows (D = 3 stereo, 2 = (u_L, v)); blocks: T
-// (7), X (3).
-template <int D>
-class CurrentResidual : public ceres::SizedCostFunction<D, 7, 3> {
+class MotionProblem {
  public:
-  CurrentResidual(const StereoCamera& cam, const Eigen::Vector3d& z, double sigma)
-      : cam_(cam), z_(z), inv_sigma_(1.0 / sigma) {}
-  bool Evaluate(double const* const* p, double* r, double** J) const override {
-    const Pose3 T = block_to_pose(p[0]);
-    const Eigen::Map<const Eigen::Vector3d> X(p[1]);
-    const Eigen::Vector3d pc = T.linear().transpose() * (X - T.translation());
+  MotionProblem(const StereoCamera& camera, const std::vector<TrackedPoint>& points, double huber_delta)
+      : camera_(camera), points_(points), delta_(huber_delta), sigma_x_(points.size()) {
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      sigma_x_[i] = camera.triangulation_covariance(points[i].z_ref, points[i].sigma_ref);
+    }
+  }
+
+  /// χ² of point i at T (e ᵀ S⁻¹ e) with its Jacobian terms; false if the point is behind the camera.
+  /// H and g (if not null) receive Jᵀ S⁻¹ J and Jᵀ S⁻¹ e with J = ∂e/∂ξ.
+  bool evaluate(std::size_t i, const Pose3& T, double* chi2, Matrix6d* H, Vector6d* g) const {
+    const TrackedPoint& t = points_[i];
+    const Eigen::Vector3d pc = T.linear().transpose() * (t.point_ref - T.translation());
     if (pc.z() <= 1e-6) return false;
     Matrix36d Jp;
     Eigen::Matrix3d Jx;
-    const bool want = J != nullptr && (J[0] != nullptr || J[1] != nullptr);
-    const Eigen::Vector3d z = cam_.project_from_pose(T, X, want ? &Jp : nullptr, want ? &Jx : nullptr);
-    Eigen::Map<Eigen::Matrix<double, D, 1>> res(r);
-    res = (z - z_).template head<D>() * inv_sigma_;
-    if (J != nullptr) {
-      if (J[0] != nullptr) {
-        Eigen::Map<Eigen::Matrix<double, D, 7, Eigen::RowMajor>> J0(J[0]);
-        J0.template leftCols<6>() = Jp.template topRows<D>() * inv_sigma_;
-        J0.col(6).setZero();
+    const Eigen::Vector3d z = camera_.project_from_pose(T, t.point_ref, &Jp, &Jx);
+    const Eigen::Vector3d e = z - t.z_cur;
+    const double s2 = t.sigma_cur * t.sigma_cur;
+    Eigen::Matrix3d S = Jx * sigma_x_[i] * Jx.transpose();
+    if (t.cur_stereo) {
+      S.diagonal().array() += s2;
+      const Eigen::Matrix3d Sinv = S.inverse();
+      *chi2 = e.dot(Sinv * e);
+      if (H != nullptr) {
+        const Eigen::Matrix<double, 6, 3> JtSinv = Jp.transpose() * Sinv;
+        *H = JtSinv * Jp;
+        *g = JtSinv * e;
       }
-      if (J[1] != nullptr) {
-        Eigen::Map<Eigen::Matrix<double, D, 3, Eigen::RowMajor>> J1(J[1]);
-        J1 = Jx.template topRows<D>() * inv_sigma_;
+    } else {
+      Eigen::Matrix2d S2 = S.topLeftCorner<2, 2>();
+      S2.diagonal().array() += s2;
+      const Eigen::Matrix2d Sinv = S2.inverse();
+      const Eigen::Vector2d e2 = e.head<2>();
+      *chi2 = e2.dot(Sinv * e2);
+      if (H != nullptr) {
+        const Eigen::Matrix<double, 6, 2> JtSinv = Jp.topRows<2>().transpose() * Sinv;
+        *H = JtSinv * Jp.topRows<2>();
+        *g = JtSinv * e2;
       }
     }
     return true;
   }
 
+  double huber_weight(double chi2) const {
+    const double s = std::sqrt(chi2);
+    return s <= delta_ ? 1.0 : delta_ / s;
+  }
+  double huber_cost(double chi2) const {
+    const double s = std::sqrt(chi2);
+    return s <= delta_ ? chi2 : 2.0 * delta_ * s - delta_ * delta_;
+  }
+
+  Linearization linearize(const Pose3& T, const std::vector<char>& active) const {
+    Linearization lin;
+    Matrix6d Hi;
+    Vector6d gi;
+    double chi2 = 0.0;
+    for (std::size_t i = 0; i < points_.size(); ++i) {
+      if (!active[i] || !evaluate(i, T, &chi2, &Hi, &gi)) continue;
+      const double w = huber_weight(chi2);
+      lin.cost += huber_cost(chi2);
+      lin.H.noalias() += w * Hi;
+      lin.g.noalias() += w * gi;
+      ++lin.used;
+    }
+    return lin;
+  }
+
  private:
-  const StereoCamera& cam_;
-  Eigen::Vector3d z_;
-  double inv_sigma_;
+  const StereoCamera& camera_;
+  const std::vector<TrackedPoint>& points_;
+  double delta_;
+  std::vector<Eigen::Matrix3d> sigma_x_;
 };
 
 }  // namespace
@@ -82,69 +105,44 @@ PoseRefinementResult refine_stereo_pose(const StereoCamera& camera, const std::v
   result.inlier.assign(n, 1);
   result.T_ref_cur = initial_T_ref_cur;
   // Points behind either camera at the start cannot be used.
+  const Pose3 T0inv = initial_T_ref_cur.inverse();
   for (std::size_t i = 0; i < n; ++i) {
-    const Eigen::Vector3d pc = initial_T_ref_cur.inverse() * points[i].point_ref;
+    const Eigen::Vector3d pc = T0inv * points[i].point_ref;
     if (points[i].point_ref.z() <= 1e-6 || pc.z() <= 1e-6) result.inlier[i] = 0;
   }
-  std::vector<double> X(3 * n);
-  double pose[7];
-  pose_to_block(initial_T_ref_cur, pose);
+  const MotionProblem problem(camera, points, options.huber_delta);
   const double gate2 = options.chi2_threshold * 5.991 / 7.815;
+  Pose3 T = initial_T_ref_cur;
 
   for (int round = 0; round < options.rounds; ++round) {
-    ceres::Problem::Options po;
-    po.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-    po.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-    Se3RightManifold manifold;                   // outlives `problem`, which does not own it
-    ceres::HuberLoss loss(options.huber_delta);  // one loss object shared by every residual
-    ceres::Problem problem(po);
-    problem.AddParameterBlock(pose, 7, &manifold);
-    int used = 0;
-    for (std::size_t i = 0; i < n; ++i) {
-      if (!result.inlier[i]) continue;
-      const TrackedPoint& t = points[i];
-      double* x = &X[3 * i];
-      Eigen::Map<Eigen::Vector3d> xm(x);
-      xm = t.point_ref;  // every round restarts points from their triangulation
-      problem.AddResidualBlock(new ReferenceResidual(camera, t.z_ref, t.sigma_ref), &loss, x);
-      if (t.cur_stereo) {
-        problem.AddResidualBlock(new CurrentResidual<3>(camera, t.z_cur, t.sigma_cur), &loss, pose, x);
-      } else {
-        problem.AddResidualBlock(new CurrentResidual<2>(camera, t.z_cur, t.sigma_cur), &loss, pose, x);
+    Linearization lin = problem.linearize(T, result.inlier);
+    if (lin.used < 4) return result;
+    for (int it = 0; it < options.max_iterations; ++it) {
+      Eigen::LDLT<Matrix6d> ldlt(lin.H);
+      if (ldlt.info() != Eigen::Success) break;
+      Vector6d step = -ldlt.solve(lin.g);
+      if (!step.allFinite()) break;
+      bool accepted = false;
+      for (int halving = 0; halving < 6 && !accepted; ++halving, step *= 0.5) {
+        const Pose3 Tn = se3_plus(T, step);
+        Linearization next = problem.linearize(Tn, result.inlier);
+        if (next.used >= 4 && next.cost <= lin.cost) {
+          T = Tn;
+          lin = next;
+          accepted = true;
+        }
       }
-      ++used;
+      if (!accepted || step.norm() < 1e-10) break;
     }
-    if (used < 4) return result;
-    ceres::Solver::Options so;
-    so.linear_solver_type = ceres::DENSE_SCHUR;
-    so.max_num_iterations = options.max_iterations;
-    so.num_threads = 1;
-    so.logging_type = ceres::SILENT;
-    so.minimizer_progress_to_stdout = false;
-    ceres::Solver::Summary summary;
-    ceres::Solve(so, &problem, &summary);
-    if (!summary.IsSolutionUsable()) return result;
 
-    // χ² gate on each point's current and reference residuals at the solution; another round only if it
-    // removed something.
+    // χ² gate at the solution; another round only if it removed something.
     int removed = 0;
-    const Pose3 T = block_to_pose(pose);
-    const Pose3 Tinv = T.inverse();
+    double chi2 = 0.0;
     for (std::size_t i = 0; i < n; ++i) {
       if (!result.inlier[i]) continue;
-      const TrackedPoint& t = points[i];
-      const Eigen::Vector3d Xi = Eigen::Map<const Eigen::Vector3d>(&X[3 * i]);
-      const Eigen::Vector3d pc = Tinv * Xi;
-      if (pc.z() <= 1e-6 || Xi.z() <= 1e-6) {
-        result.inlier[i] = 0;
-        ++removed;
-        continue;
-      }
-      const Eigen::Vector3d rr = (camera.project(Xi) - t.z_ref) / t.sigma_ref;
-      const Eigen::Vector3d rc = (camera.project(pc) - t.z_cur) / t.sigma_cur;
-      const double chi_c = t.cur_stereo ? rc.squaredNorm() : rc.head<2>().squaredNorm();
-      const double gate_c = t.cur_stereo ? options.chi2_threshold : gate2;
-      if (chi_c > gate_c || rr.squaredNorm() > options.chi2_threshold) {
+      const bool in_front = problem.evaluate(i, T, &chi2, nullptr, nullptr);
+      const double gate = points[i].cur_stereo ? options.chi2_threshold : gate2;
+      if (!in_front || chi2 > gate) {
         result.inlier[i] = 0;
         ++removed;
       }
@@ -152,39 +150,14 @@ PoseRefinementResult refine_stereo_pose(const StereoCamera& camera, const std::v
     if (removed == 0) break;
   }
 
-  // Information of the pose with the points marginalised (Schur complement), Huber weights at the solution.
-  result.T_ref_cur = block_to_pose(pose);
-  Matrix6d S = Matrix6d::Zero();
-  int inliers = 0;
-  auto huber_weight = [&](double s2) {
-    const double s = std::sqrt(s2);
-    return s <= options.huber_delta ? 1.0 : options.huber_delta / s;
-  };
-  for (std::size_t i = 0; i < n; ++i) {
-    if (!result.inlier[i]) continue;
-    const TrackedPoint& t = points[i];
-    const Eigen::Vector3d Xi = Eigen::Map<const Eigen::Vector3d>(&X[3 * i]);
-    Matrix36d Jp;
-    Eigen::Matrix3d Jx;
-    const Eigen::Vector3d zc = camera.project_from_pose(result.T_ref_cur, Xi, &Jp, &Jx);
-    const int D = t.cur_stereo ? 3 : 2;
-    const Eigen::Vector3d rc = (zc - t.z_cur) / t.sigma_cur;
-    const double wc = huber_weight(rc.head(D).squaredNorm()) / (t.sigma_cur * t.sigma_cur);
-    const Eigen::Matrix3d Jr = camera.project_jacobian(Xi);
-    const Eigen::Vector3d rr = (camera.project(Xi) - t.z_ref) / t.sigma_ref;
-    const double wr = huber_weight(rr.squaredNorm()) / (t.sigma_ref * t.sigma_ref);
-    const Eigen::MatrixXd Jpd = Jp.topRows(D);
-    const Eigen::MatrixXd Jxd = Jx.topRows(D);
-    const Matrix6d Hpp = wc * Jpd.transpose() * Jpd;
-    const Eigen::Matrix<double, 6, 3> Hpx = wc * Jpd.transpose() * Jxd;
-    const Eigen::Matrix3d Hxx = wc * Jxd.transpose() * Jxd + wr * Jr.transpose() * Jr;
-    S += Hpp - Hpx * Hxx.ldlt().solve(Hpx.transpose());
-    ++inliers;
-  }
-  result.inliers = inliers;
-  symmetrize(S);
-  Eigen::SelfAdjointEigenSolver<Matrix6d> es(S);
-  if (inliers < 4 || es.eigenvalues().minCoeff() <= 1e-12 * std::max(1.0, es.eigenvalues().maxCoeff())) {
+  // Information of the pose at the solution (Huber weights), its inverse is the covariance.
+  result.T_ref_cur = T;
+  const Linearization lin = problem.linearize(T, result.inlier);
+  result.inliers = lin.used;
+  Matrix6d H = lin.H;
+  symmetrize(H);
+  Eigen::SelfAdjointEigenSolver<Matrix6d> es(H);
+  if (lin.used < 4 || es.eigenvalues().minCoeff() <= 1e-12 * std::max(1.0, es.eigenvalues().maxCoeff())) {
     return result;
   }
   result.covariance =

@@ -1,12 +1,15 @@
 #pragma once
-// Two-view stereo bundle adjustment for the relative pose (Ceres): points tracked from a reference frame
-// (where they were triangulated) into the current frame. Unknowns: T_ref_cur ∈ SE(3) (right perturbation, see
-// se3_manifold.hpp) and each point in the reference frame. Residuals, whitened by the pixel σ of each
-// keypoint:
-//   reference: π(X) − z_ref (u_L, v, u_R),   current: π(T_ref_cur⁻¹ X) − z_cur (u_L, v, u_R, or u_L, v only),
-// with a Huber loss; between rounds, observations whose χ² exceeds the gate are dropped. The covariance of
-// the pose is the inverse of the Schur complement of the Gauss–Newton information (points marginalised) at
-// the solution, in the right-perturbation tangent of T_ref_cur: T_true ≈ T̂ · Exp(ξ), ξ ~ N(0, Q).
+// Motion-only refinement of the relative pose T_ref_cur ∈ SE(3) from points tracked from a reference frame
+// (where they were triangulated from stereo) into the current frame. The points stay fixed; the uncertainty
+// of each triangulation is folded into the weighting of its residual, which marginalises the point of the
+// two-view stereo bundle adjustment to first order:
+//   e_i = π(T_ref_cur⁻¹ X_i) − z_cur,i   (u_L, v, u_R; or u_L, v when the current keypoint has no stereo
+//   match) S_i = σ_cur,i² I + J_X Σ_X,i J_Xᵀ,   Σ_X,i = triangulation covariance of z_ref,i with σ_ref,i,
+// minimising Σ ρ(e_iᵀ S_i⁻¹ e_i) with the Huber ρ over the 6 pose parameters by Gauss–Newton (right
+// perturbation T ⊕ ξ = T · Exp(ξ), ξ = (ρ, φ), core/lie.hpp; step halving if the cost rises). Between rounds,
+// points whose χ² exceeds the gate are dropped. The covariance of the pose is the inverse Gauss–Newton
+// information Σ w_i J_iᵀ S_i⁻¹ J_i at the solution (Huber weights w_i), in the right-perturbation tangent of
+// T_ref_cur: T_true ≈ T̂ · Exp(ξ), ξ ~ N(0, Q).
 #include <vector>
 
 #include "core/lie.hpp"
@@ -15,7 +18,7 @@
 namespace glmbslam::frontend {
 
 struct TrackedPoint {
-  Eigen::Vector3d point_ref = Eigen::Vector3d::Zero();  ///< initial 3D point in the reference frame
+  Eigen::Vector3d point_ref = Eigen::Vector3d::Zero();  ///< 3D point in the reference frame (triangulated)
   Eigen::Vector3d z_ref = Eigen::Vector3d::Zero();      ///< stereo measurement in the reference frame
   double sigma_ref = 1.0;
   Eigen::Vector3d z_cur = Eigen::Vector3d::Zero();  ///< measurement in the current frame (u_R unused if mono)
@@ -26,8 +29,8 @@ struct TrackedPoint {
 struct PoseRefinementOptions {
   double huber_delta = 2.0;       ///< Huber threshold on the whitened residual norm
   double chi2_threshold = 7.815;  ///< 3-dof gate; the 2-dof gate is scaled by 5.991 / 7.815
-  int rounds = 2;
-  int max_iterations = 10;
+  int rounds = 2;                 ///< solve / reject rounds (another round only if the gate removed points)
+  int max_iterations = 10;        ///< Gauss–Newton iterations per round
 };
 
 struct PoseRefinementResult {

@@ -1,10 +1,10 @@
 #pragma once
 // Frame-to-frame stereo visual odometry: the previous good frame's triangulated points are matched into the
 // current left image (descriptor search around their projection with the constant-velocity prediction), an
-// EPnP + RANSAC pose seeds a two-view stereo bundle adjustment (stereo_pose_refiner.hpp) that gives the
-// relative pose and its covariance. Hard frames (no features, repeated image, too few matches or inliers,
-// missing images) fall back to the constant-velocity prediction with an inflated covariance; every frame
-// gets exactly one estimate.
+// EPnP + RANSAC pose seeds a motion-only refinement with the triangulation uncertainty folded into the
+// residual weights (stereo_pose_refiner.hpp) that gives the relative pose and its covariance. Hard frames (no
+// features, repeated image, too few matches or inliers, missing images) fall back to the constant-velocity
+// prediction with an inflated covariance; every frame gets exactly one estimate.
 #include <string>
 #include <vector>
 
