@@ -175,12 +175,14 @@ inline float facade_windows(const SurfaceTexture& t, float v, float a, float b, 
     const std::int32_t ib = fast_floor(gb);
     const float la = (ga - static_cast<float>(ia)) * cw;
     const float lb = (gb - static_cast<float>(ib)) * ch;
-    const std::uint32_t h = hash_cell(ia, ib, t.seed + 7U);
     const float cx = clamp01(std::min(la - 0.22f * cw, 0.78f * cw - la) * inv_fp + 0.5f);
     const float cy = clamp01(std::min(lb - 0.25f * ch, 0.80f * ch - lb) * inv_fp + 0.5f);
-    const float r = unit(h);
-    const float glass = r < 0.7f ? 0.06f + 0.3f * r : 0.55f + 1.2f * (r - 0.7f);
-    v += ww * cx * cy * (glass - v);
+    const float cover = ww * cx * cy;
+    if (cover > 0.0f) {  // inside (or on the blurred edge of) the window of this cell
+      const float r = unit(hash_cell(ia, ib, t.seed + 7U));
+      const float glass = r < 0.7f ? 0.06f + 0.3f * r : 0.55f + 1.2f * (r - 0.7f);
+      v += cover * (glass - v);
+    }
   }
   return v;
 }
