@@ -18,7 +18,8 @@ namespace glmbslam::sim {
 
 /// Photometric effects (all zero gives a clean, noise-free image).
 struct PhotometricOptions {
-  double noise_sigma = 2.0;  ///< per-pixel Gaussian noise, grey levels (independent per camera)
+  double noise_sigma = 2.0;  ///< per-pixel noise σ, grey levels (independent per camera; approximately
+                             ///< Gaussian: Irwin–Hall sum of four uniform bytes, pixel_noise.hpp)
   double vignetting = 0.2;  ///< relative darkening at the image corners: gain = 1 − vignetting·(r/r_corner)²
   double exposure_sigma = 0.04;  ///< per-frame, per-camera log-gain standard deviation
 };

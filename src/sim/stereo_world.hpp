@@ -14,10 +14,11 @@
 
 namespace glmbslam::sim {
 
-/// Procedural texture families (render_texture.hpp). All are deterministic functions of the surface point.
+/// Texture families (render_texture.hpp). All are deterministic functions of the surface point; the rectangle
+/// patterns are sampled from one precomputed mip-mapped tile (texture_tile.hpp) at a per-surface offset.
 enum class TextureKind : std::uint8_t {
   kConstant,  ///< uniform albedo
-  kGround,    ///< asphalt-like: value noise plus rectangles at several scales
+  kGround,    ///< asphalt-like: rectangles at several scales (pattern unit 0.9 m, world x/z axes)
   kFacade,    ///< wall with a grid of windows (param0 = cell width, param1 = cell height, metres)
   kMondrian,  ///< overlapping rectangles at several scales (boxes, vehicles)
   kBands,     ///< horizontal bands along v (poles; param0 = period, metres)
