@@ -22,6 +22,7 @@
 
 #include <Eigen/Core>
 
+#include "backend/glmb/appearance.hpp"
 #include "core/log_math.hpp"
 
 namespace glmbslam::backend {
@@ -46,6 +47,7 @@ struct Track {
   Label label;
   typename Meas::Landmark mean;
   typename Meas::LandmarkCovariance cov;
+  typename AppearanceOf<Meas>::Type appearance{};  ///< e.g. the last ORB descriptor matched (appearance.hpp)
   EIGEN_MAKE_ALIGNED_OPERATOR_NEW
 };
 
@@ -61,6 +63,7 @@ struct BirthCandidate {
   typename Meas::Landmark mean;
   typename Meas::LandmarkCovariance cov;
   double log_existence = kLogZero;  ///< log r_B
+  typename AppearanceOf<Meas>::Type appearance{};
   EIGEN_MAKE_ALIGNED_OPERATOR_NEW
 };
 

@@ -131,9 +131,10 @@ class GlmbUpdater {
     Innovation<Meas> inn;
     typename Meas::Landmark m_upd;
     int num_active = 0;
+    using Appearance = typename AppearanceOf<Meas>::Type;
     auto add_source = [&](const Label& label, const typename Meas::Landmark& mean,
-                          const typename Meas::LandmarkCovariance& P, double log_exist, double log_not_exist,
-                          int missed_id, bool is_birth) {
+                          const typename Meas::LandmarkCovariance& P, const Appearance& appearance,
+                          double log_exist, double log_not_exist, int missed_id, bool is_birth) {
       ws.source_begin.push_back(static_cast<int>(ws.entry_column.size()));
       const double pd = model_.detection_probability(x, mean);
       if (log_not_exist > kLogZero) push_entry(ws, AssociationTable::kDead, log_not_exist, -1);
@@ -146,7 +147,13 @@ class GlmbUpdater {
         if (!inn.update(model_, mean, Z[j], gate, &m_upd, &log_lik)) continue;
         if (!is_birth) ws.explained[j] = 1;
         const int id = n_old + static_cast<int>(ws.extra.size());
-        ws.extra.push_back(TrackType{label, m_upd, inn.P_updated});
+        ws.extra.push_back(TrackType{label, m_upd, inn.P_updated, appearance});
+        if constexpr (AppearanceOf<Meas>::kEnabled) {
+          if (model_.uses_appearance()) {
+            log_lik += model_.log_appearance_ratio(appearance, j);
+            ws.extra.back().appearance = model_.measurement_appearance(j);  // the latest look of the landmark
+          }
+        }
         push_entry(ws, j + 1, log_exist + log_pd + log_lik - model_.log_clutter_intensity(Z[j]), id);
       }
     };
@@ -155,14 +162,15 @@ class GlmbUpdater {
       const auto& tr = prior.tracks[t];
       const double ps = model_.survival_probability(x, tr.mean);
       ws.source_of_track[t] = num_active++;
-      add_source(tr.label, tr.mean, tr.cov, std::log(ps), ps < 1.0 ? std::log1p(-ps) : kLogZero, t, false);
+      add_source(tr.label, tr.mean, tr.cov, tr.appearance, std::log(ps),
+                 ps < 1.0 ? std::log1p(-ps) : kLogZero, t, false);
     }
     // birth prior tracks get ids after the pair tracks created so far; give them their own slots first
     ws.birth_prior_id.resize(n_birth);
     for (int b = 0; b < n_birth; ++b) {
       const auto& bc = prior.births[b];
       ws.birth_prior_id[b] = n_old + static_cast<int>(ws.extra.size());
-      ws.extra.push_back(TrackType{bc.label, bc.mean, bc.cov});
+      ws.extra.push_back(TrackType{bc.label, bc.mean, bc.cov, bc.appearance});
     }
     // A birth that gates with no measurement can only be "not born" or "born and missed"; the second has a
     // relative weight of about r_B (1 − p_D) (below the pruning threshold for the paper's r_B), so such
@@ -175,7 +183,7 @@ class GlmbUpdater {
       const double log_r = bc.log_existence;
       const double log_1mr = log_r < 0.0 ? std::log(-std::expm1(log_r)) : kLogZero;
       const int first = static_cast<int>(ws.entry_column.size());
-      add_source(bc.label, bc.mean, bc.cov, log_r, log_1mr, ws.birth_prior_id[b], true);
+      add_source(bc.label, bc.mean, bc.cov, bc.appearance, log_r, log_1mr, ws.birth_prior_id[b], true);
       bool detectable = false;
       for (int e = first; e < static_cast<int>(ws.entry_column.size()); ++e)
         detectable |= ws.entry_column[e] > 0;
@@ -389,6 +397,7 @@ class GlmbUpdater {
         bc.label = Label{step + 1, j};
         model_.initialize(x, Z[j], &bc.mean, &bc.cov);
         bc.log_existence = ws.explained[j] ? log_explained : log_unexplained;
+        if constexpr (AppearanceOf<Meas>::kEnabled) bc.appearance = model_.measurement_appearance(j);
         posterior.births.push_back(bc);
       }
     }

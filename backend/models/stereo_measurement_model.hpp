@@ -5,10 +5,21 @@
 // Field of view: the projection lies inside the image and the depth in [z_min, z_max]; p_D inside, 0 outside
 // (landmark kept); p_S inside/outside; clutter Poisson, uniform over image × disparity range.
 // Implements the MeasurementModel concept documented in range_bearing_model.hpp.
+//
+// Optional appearance term (association.use_descriptors): each landmark keeps the ORB descriptor of its last
+// detection, and the single-landmark likelihood g(z_j | m) is multiplied by a descriptor likelihood ratio
+//   log p(a_j | m) / p(a_j | clutter) = clamp(scale · (threshold − d_H(a_m, a_j)), ±max_log_ratio)
+// (d_H: Hamming distance of 256-bit descriptors; matches of the same point typically have d_H < 50, unrelated
+// ORB descriptors ~128). The descriptors of the current measurement set are handed over with
+// set_measurement_appearance() before each filter step; copies of the model share them.
+#include <algorithm>
 #include <cmath>
+#include <memory>
+#include <vector>
 
 #include <Eigen/Core>
 
+#include "core/hamming.hpp"
 #include "core/lie.hpp"
 #include "core/stereo_camera.hpp"
 #include "core/types.hpp"
@@ -16,14 +27,18 @@
 namespace glmbslam::backend {
 
 struct StereoMeasurementConfig {
-  double pixel_sigma = 1.0;        ///< σ of each of u_L, v, u_R (pixels)
-  double min_depth = 1.0;          ///< z_min (m)
-  double max_depth = 20.0;         ///< z_max (m); paper 000 uses 20 m
-  double border = 0.0;             ///< pixels at the image border counted as outside the view
-  double p_detect_inside = 0.7;    ///< p_D in view
-  double p_survive_inside = 0.95;  ///< p_S in view
-  double p_survive_outside = 1.0;  ///< p_S out of view
-  double clutter_rate = 10.0;      ///< λ_c: expected clutter measurements per frame
+  double pixel_sigma = 1.0;               ///< σ of each of u_L, v, u_R (pixels)
+  double min_depth = 1.0;                 ///< z_min (m)
+  double max_depth = 20.0;                ///< z_max (m); paper 000 uses 20 m
+  double border = 0.0;                    ///< pixels at the image border counted as outside the view
+  double p_detect_inside = 0.7;           ///< p_D in view
+  double p_survive_inside = 0.95;         ///< p_S in view
+  double p_survive_outside = 1.0;         ///< p_S out of view
+  double clutter_rate = 10.0;             ///< λ_c: expected clutter measurements per frame
+  bool use_descriptors = false;           ///< multiply g(z|m) by the descriptor likelihood ratio
+  double descriptor_threshold = 50.0;     ///< Hamming distance with likelihood ratio 1
+  double descriptor_scale = 0.1;          ///< log-ratio per bit of Hamming distance
+  double descriptor_max_log_ratio = 5.0;  ///< |log-ratio| cap
 };
 
 class StereoMeasurementModel {
@@ -38,6 +53,7 @@ class StereoMeasurementModel {
   using MeasurementCovariance = Eigen::Matrix3d;
   using PoseJacobian = Eigen::Matrix<double, 3, 6>;
   using LandmarkJacobian = Eigen::Matrix3d;
+  using Appearance = Descriptor256;
 
   StereoMeasurementModel() = default;
   StereoMeasurementModel(const StereoCalibration& calib, const StereoMeasurementConfig& c)
@@ -85,6 +101,24 @@ class StereoMeasurementModel {
     P->diagonal().array() += 1e-9;
   }
 
+  // ----- appearance (see the file comment) -----
+  /// Descriptors of the measurement set of the next filter step, index-aligned with it (shared by all copies
+  /// of this model). Call before GlmbSlam::initial_scan / step when use_descriptors is on.
+  void set_measurement_appearance(std::vector<Appearance> descriptors) const {
+    *appearance_ = std::move(descriptors);
+  }
+  bool uses_appearance() const { return config_.use_descriptors; }
+  Appearance measurement_appearance(int j) const {
+    return static_cast<std::size_t>(j) < appearance_->size() ? (*appearance_)[static_cast<std::size_t>(j)]
+                                                             : Appearance{};
+  }
+  double log_appearance_ratio(const Appearance& landmark, int j) const {
+    if (static_cast<std::size_t>(j) >= appearance_->size()) return 0.0;
+    const double d = hamming_distance(landmark, (*appearance_)[static_cast<std::size_t>(j)]);
+    const double cap = config_.descriptor_max_log_ratio;
+    return std::clamp(config_.descriptor_scale * (config_.descriptor_threshold - d), -cap, cap);
+  }
+
   double query_radius() const { return config_.max_depth * 1.5; }
   static Eigen::Vector3d position(const Pose& x) { return x.translation(); }
   static Eigen::Vector3d landmark_position(const Landmark& m) { return m; }
@@ -98,6 +132,7 @@ class StereoMeasurementModel {
   StereoMeasurementConfig config_;
   MeasurementCovariance R_ = Eigen::Matrix3d::Identity();
   double log_kappa_ = 0.0;
+  std::shared_ptr<std::vector<Appearance>> appearance_ = std::make_shared<std::vector<Appearance>>();
 };
 
 }  // namespace glmbslam::backend

@@ -3,6 +3,7 @@
 //   frontend:    ORB, stereo matching, visual odometry (frontend/frontend_config.hpp)
 //   motion:      SE(3) motion driven by the VO (backend/models/se3_motion.hpp)
 //   measurement: stereo measurement model (backend/models/stereo_measurement_model.hpp)
+//   association: optional descriptor term of the landmark likelihood (same model; StereoMeasurementConfig)
 //   rbpf:        particle filter and δ-GLMB map update (backend/rbpf/rbpf_config.hpp; child `glmb`)
 //   pipeline:    what this file declares below.
 // Every key has a default in code; config/kitti*.yaml document them. Unknown keys are errors.

@@ -153,6 +153,13 @@ int run_stereo(const RunOptions& options) {
                                 config.measurement.max_depth, config.pipeline.max_measurements);
         Z.reserve(chosen.size());
         for (int i : chosen) Z.push_back(work.features.measurements[static_cast<std::size_t>(i)].z);
+        if (model.uses_appearance()) {  // index-aligned with Z; the filter's copies of the model share them
+          std::vector<backend::StereoMeasurementModel::Appearance> descriptors;
+          descriptors.reserve(chosen.size());
+          for (int i : chosen)
+            descriptors.push_back(work.features.measurements[static_cast<std::size_t>(i)].descriptor);
+          model.set_measurement_appearance(std::move(descriptors));
+        }
       }
       Stopwatch backend_watch;
       if (k == 0) {
