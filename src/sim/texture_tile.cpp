@@ -19,11 +19,16 @@ constexpr int kPeriodUnits = MipTile::kSize / MipTile::kTexelsPerUnit;  // 32 pa
 /// signed intensity in [−1, 1] on a zero background; edges box-filtered over `footprint` units.
 double rect_layer_periodic(double x, double y, double cell, int cells, std::uint32_t seed, double footprint) {
   const double gx = x / cell, gy = y / cell;
-  const double fx = std::floor(gx), fy = std::floor(gy);
+  // floor() without a library call (baseline x86-64 has no rounding instruction); |g| < 2^31 here.
+  auto floor_of = [](double g) {
+    const auto i = static_cast<double>(static_cast<std::int32_t>(g));
+    return i > g ? i - 1.0 : i;
+  };
+  const double fx = floor_of(gx), fy = floor_of(gy);
   const double lx = gx - fx, ly = gy - fy;
   auto wrap = [cells](double f) {
-    const auto i = static_cast<std::int64_t>(f) % cells;
-    return static_cast<std::int32_t>(i < 0 ? i + cells : i);
+    const std::int32_t i = static_cast<std::int32_t>(f) % cells;
+    return i < 0 ? i + cells : i;
   };
   const std::uint32_t h = hash_cell(wrap(fx), wrap(fy), seed);
   constexpr double k = 0.36 / 255.0;
