@@ -7,6 +7,8 @@
 #include <Eigen/Core>
 #include <Eigen/StdVector>
 
+#include "core/hamming.hpp"
+
 namespace glmbslam::frontend {
 
 /// A left keypoint matched to a right keypoint on the same rectified row and triangulated.
@@ -30,31 +32,7 @@ struct StereoMeasurement {
 
 using StereoMeasurementList = std::vector<StereoMeasurement, Eigen::aligned_allocator<StereoMeasurement>>;
 
-/// Hamming distance between two 256-bit descriptors. Without the POPCNT instruction in the target flags the
-/// compiler's popcount builtin becomes a library call, so the bits are counted in parallel (SWAR) instead.
-inline int hamming_distance(const std::uint8_t* a, const std::uint8_t* b) {
-#if defined(__POPCNT__) || !(defined(__x86_64__) || defined(__i386__))
-  int d = 0;
-  for (int i = 0; i < 32; i += 8) {
-    std::uint64_t x, y;
-    __builtin_memcpy(&x, a + i, 8);
-    __builtin_memcpy(&y, b + i, 8);
-    d += __builtin_popcountll(x ^ y);
-  }
-  return d;
-#else
-  std::uint64_t bytes = 0;  // per-byte bit counts of the four words (each byte ends ≤ 32)
-  for (int i = 0; i < 32; i += 8) {
-    std::uint64_t x, y;
-    __builtin_memcpy(&x, a + i, 8);
-    __builtin_memcpy(&y, b + i, 8);
-    x ^= y;
-    x -= (x >> 1) & 0x5555555555555555ULL;
-    x = (x & 0x3333333333333333ULL) + ((x >> 2) & 0x3333333333333333ULL);
-    bytes += (x + (x >> 4)) & 0x0f0f0f0f0f0f0f0fULL;
-  }
-  return static_cast<int>((bytes * 0x0101010101010101ULL) >> 56);
-#endif
-}
+/// Hamming distance between 256-bit descriptors (src/core/hamming.hpp, shared with the backend).
+using glmbslam::hamming_distance;
 
 }  // namespace glmbslam::frontend
