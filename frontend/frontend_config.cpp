@@ -45,6 +45,7 @@ FrontendConfig load_frontend_config(ConfigNode& node) {
     n.read_in_range("ransac_iterations", v.ransac_iterations, 1, 100000);
     n.read_in_range("ransac_reprojection_px", v.ransac_reprojection_px, 0.1, 100.0);
     n.read_in_range("ransac_confidence", v.ransac_confidence, 0.5, 0.999999);
+    n.read_choice("refiner", v.refiner, {"ceres", "gauss_newton"});
     n.read_in_range("huber_delta", v.huber_delta, 0.1, 100.0);
     n.read_in_range("chi2_threshold", v.chi2_threshold, 0.1, 1000.0);
     n.read_in_range("refine_rounds", v.refine_rounds, 1, 10);

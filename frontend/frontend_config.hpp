@@ -1,6 +1,8 @@
 #pragma once
 // Settings of the stereo frontend and the visual odometry, with their defaults (KITTI, 1241×376).
 // YAML layout (see config/frontend_defaults.yaml): a `frontend` mapping holding `orb`, `stereo` and `vo`.
+#include <string>
+
 #include "core/config_node.hpp"
 
 namespace glmbslam::frontend {
@@ -41,13 +43,14 @@ struct VoConfig {
   int min_matches = 20;         ///< fewer guided matches → retry with the wide window, then fall back
   int min_inliers = 12;         ///< fewer PnP/refinement inliers → constant-velocity fallback
   int ransac_iterations = 100;  ///< EPnP RANSAC iterations
-  double ransac_reprojection_px = 2.0;  ///< RANSAC inlier threshold (pixels, left image)
-  double ransac_confidence = 0.99;      ///< RANSAC confidence
-  double huber_delta = 2.0;             ///< Huber loss threshold on whitened residual norm (σ units)
-  double chi2_threshold = 7.815;        ///< 3-dof χ² gate (95 %) for outlier rejection between rounds
-  int refine_rounds = 2;                ///< motion-only Gauss–Newton solve / reject rounds
-  int max_iterations = 10;              ///< Gauss–Newton iterations per round
-  bool rematch_after_pnp = true;        ///< redo guided matching with the PnP pose before refinement
+  double ransac_reprojection_px = 2.0;   ///< RANSAC inlier threshold (pixels, left image)
+  double ransac_confidence = 0.99;       ///< RANSAC confidence
+  std::string refiner = "gauss_newton";  ///< pose refinement solver: gauss_newton | ceres (same objective)
+  double huber_delta = 2.0;              ///< Huber loss threshold on whitened residual norm (σ units)
+  double chi2_threshold = 7.815;         ///< 3-dof χ² gate (95 %) for outlier rejection between rounds
+  int refine_rounds = 2;                 ///< motion-only refinement solve / reject rounds
+  int max_iterations = 10;               ///< solver iterations per round
+  bool rematch_after_pnp = true;         ///< redo guided matching with the PnP pose before refinement
   double repeated_image_mean_abs_diff =
       0.5;                                  ///< left images closer than this (grey levels) count as repeated
   double fallback_covariance_scale = 25.0;  ///< fallback Q = scale · last good Q + floor²

@@ -4,6 +4,7 @@
 
 #include "core/error.hpp"
 #include "frontend/frontend_config.hpp"
+#include "frontend/stereo_pose_refiner.hpp"
 #include "support/test_data.hpp"
 
 namespace glmbslam::frontend {
@@ -28,6 +29,19 @@ TEST(FrontendConfig, UnknownKeyAndBadRangeAreErrors) {
   EXPECT_THROW(load_frontend_config(range), ConfigError);
   ConfigNode type = ConfigNode::parse("vo: {ratio: fast}\n", "test");
   EXPECT_THROW(load_frontend_config(type), ConfigError);
+  ConfigNode refiner = ConfigNode::parse("vo: {refiner: levenberg}\n", "test");
+  EXPECT_THROW(load_frontend_config(refiner), ConfigError);
+}
+
+TEST(FrontendConfig, RefinerChoiceReachesTheRefinementOptions) {
+  ConfigNode node =
+      ConfigNode::parse("vo: {refiner: gauss_newton, huber_delta: 3.0, refine_rounds: 4}\n", "test");
+  const FrontendConfig c = load_frontend_config(node);
+  const PoseRefinementOptions opt = pose_refinement_options(c.vo);
+  EXPECT_EQ(opt.refiner, PoseRefinerKind::kGaussNewton);
+  EXPECT_DOUBLE_EQ(opt.huber_delta, 3.0);
+  EXPECT_EQ(opt.rounds, 4);
+  EXPECT_EQ(pose_refinement_options(VoConfig{}).refiner, PoseRefinementOptions{}.refiner);
 }
 
 // config/frontend_defaults.yaml documents every key with the values in code.
@@ -47,6 +61,7 @@ TEST(FrontendConfig, DefaultsFileMatchesCode) {
   EXPECT_DOUBLE_EQ(c.stereo.pixel_sigma, d.stereo.pixel_sigma);
   EXPECT_EQ(c.stereo.max_hamming, d.stereo.max_hamming);
   EXPECT_DOUBLE_EQ(c.vo.search_radius_px, d.vo.search_radius_px);
+  EXPECT_EQ(c.vo.refiner, d.vo.refiner);
   EXPECT_DOUBLE_EQ(c.vo.huber_delta, d.vo.huber_delta);
   EXPECT_EQ(c.vo.min_inliers, d.vo.min_inliers);
   EXPECT_DOUBLE_EQ(c.vo.fallback_sigma_translation_m, d.vo.fallback_sigma_translation_m);

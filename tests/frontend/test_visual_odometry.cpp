@@ -1,5 +1,6 @@
-// Relative pose recovery from synthetic stereo correspondences with outliers (PnP + Ceres refinement), the
-// consistency of the reported covariance, and the fallback paths of the VO.
+// Relative pose recovery from synthetic stereo correspondences with outliers (PnP + refinement, Ceres and
+// Gauss–Newton), the consistency of the reported covariance, agreement of the two refiners, and the fallback
+// paths of the VO.
 #include <gtest/gtest.h>
 
 #include "core/random.hpp"
@@ -25,9 +26,17 @@ double nees6(const Pose3& est, const Pose3& truth, const Matrix6d& Q) {
   return e.dot(Q.ldlt().solve(e));
 }
 
+/// Both refiners must pass every refinement test.
+class StereoPoseRefiner : public ::testing::TestWithParam<PoseRefinerKind> {};
+INSTANTIATE_TEST_SUITE_P(Refiners, StereoPoseRefiner,
+                         ::testing::Values(PoseRefinerKind::kCeres, PoseRefinerKind::kGaussNewton),
+                         [](const ::testing::TestParamInfo<PoseRefinerKind>& info) {
+                           return info.param == PoseRefinerKind::kCeres ? "Ceres" : "GaussNewton";
+                         });
+
 // Two-view stereo BA from a perturbed start: recovers the pose and its covariance is consistent
 // (mean NEES over independent trials ≈ 6, the dimension of the pose).
-TEST(StereoPoseRefiner, RecoversPoseWithConsistentCovariance) {
+TEST_P(StereoPoseRefiner, RecoversPoseWithConsistentCovariance) {
   RandomStream rng(11);
   const int trials = 150;
   double nees_sum = 0.0;
@@ -51,6 +60,7 @@ TEST(StereoPoseRefiner, RecoversPoseWithConsistentCovariance) {
     }
     const Pose3 start = se3_plus(truth, (Vector6d() << 0.05, -0.03, 0.1, 0.01, -0.01, 0.02).finished());
     PoseRefinementOptions opt;
+    opt.refiner = GetParam();
     opt.huber_delta = 100.0;  // no robust down-weighting: outlier-free data, test the Gaussian covariance
     const PoseRefinementResult r = refine_stereo_pose(kKittiCamera, pts, start, opt);
     ASSERT_TRUE(r.success);
@@ -60,25 +70,36 @@ TEST(StereoPoseRefiner, RecoversPoseWithConsistentCovariance) {
   EXPECT_NEAR(nees_sum / trials, 6.0, 1.0);
 }
 
-TEST(StereoPoseRefiner, RejectsOutliers) {
-  RandomStream rng(12);
-  const Pose3 truth = motion(1.2, -3.0);
+/// `count` correspondences seen from the reference frame and from `truth` with 1 px noise; a fraction
+/// `outlier_rate` of the current measurements displaced by 8–30 px (flags in *is_outlier); every
+/// `mono_every`-th point (0: none) observed in the current left image only.
+std::vector<TrackedPoint> synthetic_points(const Pose3& truth, int count, double outlier_rate, int mono_every,
+                                           RandomStream& rng, std::vector<bool>* is_outlier) {
   std::vector<TrackedPoint> pts;
-  std::vector<bool> is_outlier;
-  while (pts.size() < 300) {
+  while (pts.size() < static_cast<std::size_t>(count)) {
     const Eigen::Vector3d X(rng.uniform(-12, 12), rng.uniform(-3, 2), rng.uniform(4, 50));
     const Eigen::Vector3d pc = truth.inverse() * X;
     if (pc.z() < 2.0) continue;
     TrackedPoint tp;
     tp.z_ref = kKittiCamera.project(X) + Eigen::Vector3d(rng.normal(), rng.normal(), rng.normal());
     tp.z_cur = kKittiCamera.project(pc) + Eigen::Vector3d(rng.normal(), rng.normal(), rng.normal());
-    const bool out = rng.uniform() < 0.25;
+    const bool out = rng.uniform() < outlier_rate;
     if (out) tp.z_cur += Eigen::Vector3d(rng.uniform(8, 30), rng.uniform(-30, 30), 0.0);
     tp.point_ref = kKittiCamera.triangulate(tp.z_ref);
+    tp.cur_stereo = mono_every == 0 || pts.size() % static_cast<std::size_t>(mono_every) != 0;
     pts.push_back(tp);
-    is_outlier.push_back(out);
+    is_outlier->push_back(out);
   }
+  return pts;
+}
+
+TEST_P(StereoPoseRefiner, RejectsOutliers) {
+  RandomStream rng(12);
+  const Pose3 truth = motion(1.2, -3.0);
+  std::vector<bool> is_outlier;
+  const std::vector<TrackedPoint> pts = synthetic_points(truth, 300, 0.25, 0, rng, &is_outlier);
   PoseRefinementOptions opt;
+  opt.refiner = GetParam();
   opt.rounds = 3;
   const PoseRefinementResult r = refine_stereo_pose(kKittiCamera, pts, truth, opt);
   ASSERT_TRUE(r.success);
@@ -86,6 +107,30 @@ TEST(StereoPoseRefiner, RejectsOutliers) {
   for (std::size_t i = 0; i < pts.size(); ++i) kept_outliers += is_outlier[i] && r.inlier[i];
   EXPECT_EQ(kept_outliers, 0);
   EXPECT_LT(nees6(r.T_ref_cur, truth, r.covariance), 22.46);  // χ²₆ 99.9 %
+}
+
+// The Ceres and the Gauss–Newton refiner minimise the same objective with the same gating: from the same
+// start they reach the same pose, inlier set and covariance (Huber active, outliers, mono points).
+TEST(StereoPoseRefinerAgreement, CeresMatchesGaussNewton) {
+  RandomStream rng(15);
+  for (int trial = 0; trial < 5; ++trial) {
+    const Pose3 truth = motion(0.5 + 0.3 * trial, -2.0 + trial);
+    std::vector<bool> is_outlier;
+    const std::vector<TrackedPoint> pts = synthetic_points(truth, 250, 0.15, 5, rng, &is_outlier);
+    const Pose3 start = se3_plus(truth, (Vector6d() << 0.03, -0.02, 0.08, 0.005, -0.01, 0.01).finished());
+    PoseRefinementOptions opt;
+    opt.rounds = 3;
+    opt.max_iterations = 20;
+    opt.refiner = PoseRefinerKind::kCeres;
+    const PoseRefinementResult c = refine_stereo_pose(kKittiCamera, pts, start, opt);
+    opt.refiner = PoseRefinerKind::kGaussNewton;
+    const PoseRefinementResult g = refine_stereo_pose(kKittiCamera, pts, start, opt);
+    ASSERT_TRUE(c.success && g.success) << "trial " << trial;
+    EXPECT_LT(se3_minus(c.T_ref_cur, g.T_ref_cur).norm(), 1e-6) << "trial " << trial;
+    EXPECT_LT((c.covariance - g.covariance).norm(), 1e-6 * g.covariance.norm()) << "trial " << trial;
+    EXPECT_EQ(c.inliers, g.inliers) << "trial " << trial;
+    EXPECT_EQ(c.inlier, g.inlier) << "trial " << trial;
+  }
 }
 
 // Full VO step on synthetic frames (guided matching, EPnP-RANSAC, refinement) with 20 % displaced keypoints.
