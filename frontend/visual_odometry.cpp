@@ -262,11 +262,7 @@ VoEstimate StereoVisualOdometry::track(const StereoFrameFeatures& frame) {
     }
     tracked.push_back(t);
   }
-  PoseRefinementOptions opt;
-  opt.huber_delta = config_.huber_delta;
-  opt.chi2_threshold = config_.chi2_threshold;
-  opt.rounds = config_.refine_rounds;
-  opt.max_iterations = config_.max_iterations;
+  const PoseRefinementOptions opt = pose_refinement_options(config_);
   const PoseRefinementResult res = refine_stereo_pose(camera_, tracked, T_ref_cur, opt);
   if (!res.success || res.inliers < config_.min_inliers) {
     spdlog::warn("vo: frame {}: refinement kept {} of {} points → constant-velocity fallback", k, res.inliers,
