@@ -22,12 +22,11 @@
 #include <cmath>
 #include <memory>
 #include <stdexcept>
-#include <unordered_map>
 #include <vector>
 
 #include "backend/phd/gm_phd_map.hpp"
 #include "backend/phd/phd_mh_landmarks.hpp"
-#include "backend/rbpf/mh_proposal.hpp"
+#include "backend/rbpf/mh_per_parent.hpp"
 #include "backend/rbpf/resampling.hpp"
 #include "backend/rbpf/trajectory.hpp"
 #include "core/error.hpp"
@@ -72,7 +71,7 @@ class PhdSlam {
   /// Throws ConfigError on an invalid config. `mh` configures proposal "mh" (ignored otherwise).
   PhdSlam(const Motion& motion, const Meas& model, const PhdConfig& config, const State& initial_pose,
           const MhProposalConfig& mh = MhProposalConfig())
-      : motion_(motion), config_(config), updater_(model, config), mh_proposal_(motion, model, mh) {
+      : motion_(motion), config_(config), updater_(model, config), mh_(motion, model, mh) {
     auto root = std::make_shared<const Node>(initial_pose, 0, nullptr);
     auto empty = std::make_shared<const Map>();
     const double log_w = -std::log(static_cast<double>(config.particles));
@@ -104,19 +103,14 @@ class PhdSlam {
     next_.resize(n);
     stats_.resize(n);
     const bool mh = config_.proposal == "mh";
-    if (mh) build_mh_per_parent(u, Z);
+    if (mh) mh_.build(particles_, u, Z);
     parallel_for(n, [&](std::size_t i) {
       RandomStream rng(config_.seed, (static_cast<std::uint64_t>(k) << 24) + i);
       const Particle& p = particles_[i];
       State x, x_estimate;
       double log_ratio = 0.0;  // log f(x|x⁻,u) − log q(x) (0 for the prior proposal)
       if (mh) {                // the parent's MH-ID (shared by its resampled copies)
-        const std::size_t s = static_cast<std::size_t>(parent_of_[i]);
-        const auto& q = mh_results_[s];
-        x = mh_proposal_.sample(q, rng);
-        x_estimate = mh_proposal_.mean(q);
-        log_ratio =
-            log_gaussian(Motion::local(x, mh_pred_[s]), mh_pred_cov_[s]) - mh_proposal_.log_density(q, x);
+        log_ratio = mh_.sample(i, rng, x, x_estimate);
       } else {
         x = motion_.sample(p.trajectory->pose, u, rng);
         x_estimate = x;
@@ -175,42 +169,10 @@ class PhdSlam {
   const PhdConfig& config() const { return config_; }
 
  private:
-  /// Proposal "mh": one MH-ID per distinct parent (trajectory node) of the current particles, in parallel.
-  void build_mh_per_parent(const Control& u, const MeasurementSet& Z) {
-    const std::size_t n = particles_.size();
-    parent_of_.resize(n);
-    parents_.clear();
-    parent_slot_.clear();
-    for (std::size_t i = 0; i < n; ++i) {
-      const auto [it, inserted] =
-          parent_slot_.emplace(particles_[i].trajectory.get(), static_cast<int>(parents_.size()));
-      if (inserted) parents_.push_back(i);
-      parent_of_[i] = it->second;
-    }
-    const std::size_t np = parents_.size();
-    if (mh_results_.size() < np) mh_results_.resize(np);
-    mh_pred_.resize(np);
-    mh_pred_cov_.resize(np);
-    parallel_for(np, [&](std::size_t s) {
-      const Particle& par = particles_[parents_[s]];
-      const State& x_prev = par.trajectory->pose;
-      mh_pred_[s] = motion_.predict(x_prev, u);
-      mh_pred_cov_[s] = motion_.process_noise(x_prev, u);
-      RandomStream unused(config_.seed, 0);  // the build draws nothing
-      mh_proposal_.build(*par.map, mh_pred_[s], mh_pred_cov_[s], Z, unused, mh_results_[s]);
-    });
-  }
-
   Motion motion_;
   PhdConfig config_;
   GmPhdUpdater<Meas> updater_;
-  MhProposal<Motion, Meas> mh_proposal_;
-  std::vector<int> parent_of_;
-  std::vector<std::size_t> parents_;
-  std::unordered_map<const Node*, int> parent_slot_;
-  std::vector<typename MhProposal<Motion, Meas>::Result> mh_results_;
-  std::vector<State, Eigen::aligned_allocator<State>> mh_pred_;
-  std::vector<Covariance, Eigen::aligned_allocator<Covariance>> mh_pred_cov_;
+  MhPerParent<Motion, Meas> mh_;  ///< proposal "mh"
   std::vector<Particle> particles_, next_;
   std::vector<GmPhdUpdateStats> stats_;
   std::vector<double> log_w_;

@@ -21,12 +21,11 @@
 #include <cmath>
 #include <memory>
 #include <stdexcept>
-#include <unordered_map>
 #include <vector>
 
 #include "backend/glmb/glmb_map.hpp"
 #include "backend/glmb/glmb_update.hpp"
-#include "backend/rbpf/mh_proposal.hpp"
+#include "backend/rbpf/mh_per_parent.hpp"
 #include "backend/rbpf/optimal_proposal.hpp"
 #include "backend/rbpf/rbpf_config.hpp"
 #include "backend/rbpf/resampling.hpp"
@@ -80,7 +79,7 @@ class GlmbSlam {
         config_(config),
         updater_(model, config.glmb),
         proposal_(motion, model, config),
-        mh_proposal_(motion, model, mh) {
+        mh_(motion, model, mh) {
     if (config.particles < 1) throw ConfigError("rbpf.particles must be at least 1");
     if (config.proposal != "prior" && config.proposal != "optimal" && config.proposal != "mh")
       throw ConfigError("rbpf.proposal must be 'prior', 'optimal' or 'mh'");
@@ -124,7 +123,7 @@ class GlmbSlam {
     const bool optimal = config_.proposal == "optimal";
     const bool mh = config_.proposal == "mh";
     const bool paper = config_.weighting == "paper";
-    if (mh) build_mh_per_parent(u, Z);
+    if (mh) mh_.build(particles_, u, Z);
     parallel_for(n, [&](std::size_t i) {
       RandomStream rng(config_.seed, (static_cast<std::uint64_t>(k) << 24) + i);
       const Particle& p = particles_[i];
@@ -133,12 +132,7 @@ class GlmbSlam {
       State x_estimate;
       double log_increment = 0.0;
       if (mh) {  // the parent's MH-ID (shared by its resampled copies)
-        const std::size_t s = static_cast<std::size_t>(parent_of_[i]);
-        const auto& q = mh_results_[s];
-        x = mh_proposal_.sample(q, rng);
-        x_estimate = mh_proposal_.mean(q);
-        log_increment =
-            log_gaussian(Motion::local(x, mh_pred_[s]), mh_pred_cov_[s]) - mh_proposal_.log_density(q, x);
+        log_increment = mh_.sample(i, rng, x, x_estimate);
       } else if (optimal) {
         thread_local typename OptimalProposal<Motion, Meas>::Result q;
         const State x_pred = motion_.predict(x_prev, u);
@@ -222,32 +216,6 @@ class GlmbSlam {
   const RbpfConfig& config() const { return config_; }
 
  private:
-  /// Proposal "mh": one MH-ID per distinct parent (trajectory node) of the current particles, in parallel.
-  void build_mh_per_parent(const Control& u, const MeasurementSet& Z) {
-    const std::size_t n = particles_.size();
-    parent_of_.resize(n);
-    parents_.clear();
-    parent_slot_.clear();
-    for (std::size_t i = 0; i < n; ++i) {
-      const auto [it, inserted] =
-          parent_slot_.emplace(particles_[i].trajectory.get(), static_cast<int>(parents_.size()));
-      if (inserted) parents_.push_back(i);
-      parent_of_[i] = it->second;
-    }
-    const std::size_t np = parents_.size();
-    if (mh_results_.size() < np) mh_results_.resize(np);
-    mh_pred_.resize(np);
-    mh_pred_cov_.resize(np);
-    parallel_for(np, [&](std::size_t s) {
-      const Particle& par = particles_[parents_[s]];
-      const State& x_prev = par.trajectory->pose;
-      mh_pred_[s] = motion_.predict(x_prev, u);
-      mh_pred_cov_[s] = motion_.process_noise(x_prev, u);
-      RandomStream unused(config_.seed, 0);  // the build draws nothing
-      mh_proposal_.build(*par.map, mh_pred_[s], mh_pred_cov_[s], Z, unused, mh_results_[s]);
-    });
-  }
-
   State weighted_mean(const std::vector<Particle>& ps) const {
     const State& ref = best_.trajectory->pose;
     Tangent d = Tangent::Zero();
@@ -260,14 +228,7 @@ class GlmbSlam {
   RbpfConfig config_;
   GlmbUpdater<Meas> updater_;
   OptimalProposal<Motion, Meas> proposal_;
-  MhProposal<Motion, Meas> mh_proposal_;
-  // proposal "mh": distinct parents of the current particles and their MH-IDs
-  std::vector<int> parent_of_;
-  std::vector<std::size_t> parents_;
-  std::unordered_map<const Node*, int> parent_slot_;
-  std::vector<typename MhProposal<Motion, Meas>::Result> mh_results_;
-  std::vector<State, Eigen::aligned_allocator<State>> mh_pred_;
-  std::vector<Covariance, Eigen::aligned_allocator<Covariance>> mh_pred_cov_;
+  MhPerParent<Motion, Meas> mh_;  ///< proposal "mh"
   std::vector<Particle> particles_, next_;
   std::vector<GlmbUpdateStats> stats_;
   std::vector<double> log_w_;

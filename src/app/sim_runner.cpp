@@ -156,7 +156,7 @@ struct Filters {
     phd3.proposal = "mh";
     phd3.likelihood = "poisson";  // Eq. 46 (+ expected detections) in the Eq. 45 weight
     phd3.resampling = "ess";
-    phd3.ess_threshold = 0.2;          // T_ESS = 0.2·N
+    phd3.ess_threshold = 0.2;           // T_ESS = 0.2·N
     phd3.existence_threshold = 0.0025;  // T_η = (1 − p_D)²
   }
 };
