@@ -263,10 +263,13 @@ PoseRefinementResult refine_ceres(const StereoCamera& camera, const std::vector<
   solver_options.num_threads = 1;
   solver_options.logging_type = ceres::SILENT;
   solver_options.minimizer_progress_to_stdout = false;
-  // Converge as tightly as the Gauss–Newton solver (it stops on a step below 1e-10 or no decrease).
-  solver_options.function_tolerance = 1e-14;
-  solver_options.gradient_tolerance = 1e-14;
-  solver_options.parameter_tolerance = 1e-10;
+  // The start (PnP) is close: a wide trust region makes Levenberg–Marquardt behave like Gauss–Newton, and the
+  // tolerances stop it once the step no longer changes the pose at the sub-micrometre level (the Gauss–Newton
+  // solver's criterion), instead of running every round to max_iterations.
+  solver_options.initial_trust_region_radius = 1e8;
+  solver_options.function_tolerance = 1e-10;
+  solver_options.gradient_tolerance = 1e-12;
+  solver_options.parameter_tolerance = 1e-8;
 
   for (int round = 0; round < options.rounds; ++round) {
     if (active < 4) return result;
@@ -281,24 +284,13 @@ PoseRefinementResult refine_ceres(const StereoCamera& camera, const std::vector<
     if (removed.empty()) break;
   }
 
-  // Information at the solution: JᵀJ of the robustified whitened Jacobian (tangent space, 6 columns).
+  // Information at the solution: Σ ρ'(χ²_i) J_iᵀ J_i, which is what Ceres' corrected Jacobian of a Huber loss
+  // gives (ρ'' ≤ 0 ⇒ J scaled by √ρ'), computed from the shared model without an Evaluate/CRS round trip.
   result.T_ref_cur = block_to_pose(pose);
-  result.inliers = active;
-  if (active < 4) return result;
-  ceres::CRSMatrix jacobian;
-  ceres::Problem::EvaluateOptions evaluate_options;
-  evaluate_options.num_threads = 1;
-  double cost_at_solution = 0.0;
-  if (!problem.Evaluate(evaluate_options, &cost_at_solution, nullptr, nullptr, &jacobian)) return result;
-  Matrix6d H = Matrix6d::Zero();
-  Vector6d row;
-  for (int r = 0; r < jacobian.num_rows; ++r) {
-    row.setZero();
-    for (int k = jacobian.rows[r]; k < jacobian.rows[r + 1]; ++k) row(jacobian.cols[k]) = jacobian.values[k];
-    H.selfadjointView<Eigen::Lower>().rankUpdate(row);
-  }
-  H.triangularView<Eigen::StrictlyUpper>() = H.transpose();
-  result.success = invert_information(H, &result.covariance);
+  const Linearization lin = linearize(model, result.T_ref_cur, result.inlier, options.huber_delta);
+  result.inliers = lin.used;
+  if (lin.used < 4) return result;
+  result.success = invert_information(lin.H, &result.covariance);
   return result;
 }
 
