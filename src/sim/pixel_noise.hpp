@@ -50,7 +50,11 @@ class PixelNoise {
       const __m128i i32 = _mm_cvttps_epi32(v);
       const __m128i i16 = _mm_packs_epi32(i32, i32);
       const int packed = _mm_cvtsi128_si32(_mm_packus_epi16(i16, i16));
-      std::memcpy(out + c, &packed, static_cast<std::size_t>(std::min(4, width - c)));
+      if (c + 4 <= width) {
+        std::memcpy(out + c, &packed, 4);  // a fixed-size store (a variable-length copy is a byte loop)
+      } else {
+        std::memcpy(out + c, &packed, static_cast<std::size_t>(width - c));
+      }
     }
     _mm_storeu_si128(reinterpret_cast<__m128i*>(state_), s);
 #else

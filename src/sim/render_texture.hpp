@@ -14,6 +14,10 @@
 #include <cstdint>
 #include <cstring>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #include "sim/stereo_world.hpp"
 #include "sim/texture_tile.hpp"
 
@@ -185,6 +189,106 @@ inline float facade_windows(const SurfaceTexture& t, float v, float a, float b, 
     }
   }
   return v;
+}
+
+#if defined(__SSE2__)
+namespace simd {
+// Exact SSE2 counterparts of the scalar helpers: std::max(x, y) ≡ _mm_max_ps(y, x) and std::min(x, y) ≡
+// _mm_min_ps(y, x) (the same comparison and the same operand returned, NaN included).
+inline __m128 clamp01(__m128 x) {
+  return _mm_min_ps(_mm_max_ps(x, _mm_setzero_ps()), _mm_set1_ps(1.0f));
+}
+/// a·b modulo 2^32 per lane (SSE2 has no 32-bit low multiply).
+inline __m128i mullo32(__m128i a, __m128i b) {
+  const __m128i even = _mm_mul_epu32(a, b);
+  const __m128i odd = _mm_mul_epu32(_mm_srli_epi64(a, 32), _mm_srli_epi64(b, 32));
+  return _mm_unpacklo_epi32(_mm_shuffle_epi32(even, _MM_SHUFFLE(0, 0, 2, 0)),
+                            _mm_shuffle_epi32(odd, _MM_SHUFFLE(0, 0, 2, 0)));
+}
+inline __m128i mix32(__m128i x) {
+  x = _mm_xor_si128(x, _mm_srli_epi32(x, 16));
+  x = mullo32(x, _mm_set1_epi32(0x7feb352d));
+  x = _mm_xor_si128(x, _mm_srli_epi32(x, 15));
+  x = mullo32(x, _mm_set1_epi32(static_cast<std::int32_t>(0x846ca68bU)));
+  return _mm_xor_si128(x, _mm_srli_epi32(x, 16));
+}
+inline __m128i hash_cell(__m128i i, __m128i j, std::uint32_t seed) {
+  const __m128i h = mix32(_mm_xor_si128(_mm_set1_epi32(static_cast<std::int32_t>(seed)),
+                                        mullo32(i, _mm_set1_epi32(static_cast<std::int32_t>(0x9E3779B1U)))));
+  return mix32(_mm_add_epi32(h, mullo32(j, _mm_set1_epi32(static_cast<std::int32_t>(0x85EBCA77U)))));
+}
+/// fast_floor() per lane (the truncation and the comparison of the scalar version).
+inline __m128i fast_floor(__m128 x) {
+  const __m128i i = _mm_cvttps_epi32(x);
+  return _mm_add_epi32(i, _mm_castps_si128(_mm_cmplt_ps(x, _mm_cvtepi32_ps(i))));  // −1 where x < i
+}
+inline __m128 select(__m128 mask, __m128 a, __m128 b) {
+  return _mm_or_ps(_mm_and_ps(mask, a), _mm_andnot_ps(mask, b));
+}
+}  // namespace simd
+#endif
+
+/// out[k] = facade_windows(t, t.tile_base + t.tile_gain·out[k], a[k], b[k], fp2[k]) clamped to [0, 1], for
+/// k < n (`out` holds the tile codes on entry); four pixels at a time with SSE2, identical results.
+inline void facade_span(const SurfaceTexture& t, const float* a, const float* b, const float* fp2, int n,
+                        float* out) {
+  int k = 0;
+#if defined(__SSE2__)
+  const __m128 base = _mm_set1_ps(t.tile_base), gain = _mm_set1_ps(t.tile_gain), one = _mm_set1_ps(1.0f),
+               half = _mm_set1_ps(0.5f), zero = _mm_setzero_ps(),
+               whc = _mm_set1_ps(t.window_half_cell * 0.25f), ip0 = _mm_set1_ps(t.inv_param0),
+               ip1 = _mm_set1_ps(t.inv_param1), cw = _mm_set1_ps(t.param0), ch = _mm_set1_ps(t.param1),
+               cw22 = _mm_set1_ps(0.22f * t.param0), cw78 = _mm_set1_ps(0.78f * t.param0),
+               ch25 = _mm_set1_ps(0.25f * t.param1), ch80 = _mm_set1_ps(0.80f * t.param1),
+               r07 = _mm_set1_ps(0.7f), g006 = _mm_set1_ps(0.06f), g03 = _mm_set1_ps(0.3f),
+               g055 = _mm_set1_ps(0.55f), g12 = _mm_set1_ps(1.2f),
+               unit_scale = _mm_set1_ps(1.0f / 16777216.0f);
+  for (; k + 4 <= n; k += 4) {
+    __m128 v = _mm_add_ps(base, _mm_mul_ps(gain, _mm_loadu_ps(out + k)));
+    const __m128 inv_fp = _mm_div_ps(one, _mm_sqrt_ps(_mm_loadu_ps(fp2 + k)));
+    const __m128 ww = simd::clamp01(_mm_sub_ps(_mm_mul_ps(whc, inv_fp), one));
+    if (_mm_movemask_ps(_mm_cmpgt_ps(ww, zero)) != 0) {
+      const __m128 ga = _mm_mul_ps(_mm_loadu_ps(a + k), ip0);
+      const __m128 gb = _mm_mul_ps(_mm_loadu_ps(b + k), ip1);
+      const __m128i ia = simd::fast_floor(ga);
+      const __m128i ib = simd::fast_floor(gb);
+      const __m128 la = _mm_mul_ps(_mm_sub_ps(ga, _mm_cvtepi32_ps(ia)), cw);
+      const __m128 lb = _mm_mul_ps(_mm_sub_ps(gb, _mm_cvtepi32_ps(ib)), ch);
+      // std::min(la − 0.22·cw, 0.78·cw − la) ≡ _mm_min_ps(0.78·cw − la, la − 0.22·cw).
+      const __m128 cx = simd::clamp01(
+          _mm_add_ps(_mm_mul_ps(_mm_min_ps(_mm_sub_ps(cw78, la), _mm_sub_ps(la, cw22)), inv_fp), half));
+      const __m128 cy = simd::clamp01(
+          _mm_add_ps(_mm_mul_ps(_mm_min_ps(_mm_sub_ps(ch80, lb), _mm_sub_ps(lb, ch25)), inv_fp), half));
+      const __m128 cover = _mm_mul_ps(_mm_mul_ps(ww, cx), cy);
+      // Scalar: only where ww > 0 and cover > 0 (cover > 0 implies ww > 0).
+      const __m128 inside = _mm_cmpgt_ps(cover, zero);
+      if (_mm_movemask_ps(inside) != 0) {
+        const __m128i h = simd::hash_cell(ia, ib, t.seed + 7U);
+        const __m128 r = _mm_mul_ps(_mm_cvtepi32_ps(_mm_srli_epi32(h, 8)), unit_scale);
+        const __m128 glass = simd::select(_mm_cmplt_ps(r, r07), _mm_add_ps(g006, _mm_mul_ps(g03, r)),
+                                          _mm_add_ps(g055, _mm_mul_ps(g12, _mm_sub_ps(r, r07))));
+        v = simd::select(inside, _mm_add_ps(v, _mm_mul_ps(cover, _mm_sub_ps(glass, v))), v);
+      }
+    }
+    _mm_storeu_ps(out + k, simd::clamp01(v));
+  }
+#endif
+  for (; k < n; ++k) {
+    const float v = t.tile_base + t.tile_gain * out[k];
+    out[k] = clamp01(facade_windows(t, v, a[k], b[k], fp2[k]));
+  }
+}
+
+/// out[k] = clamp01(t.tile_base + t.tile_gain·out[k]) for k < n (tile codes to albedo).
+inline void tile_albedo_span(const SurfaceTexture& t, int n, float* out) {
+  int k = 0;
+#if defined(__SSE2__)
+  const __m128 base = _mm_set1_ps(t.tile_base), gain = _mm_set1_ps(t.tile_gain);
+  for (; k + 4 <= n; k += 4) {
+    _mm_storeu_ps(out + k, simd::clamp01(_mm_add_ps(base, _mm_mul_ps(gain, _mm_loadu_ps(out + k)))));
+  }
+#endif
+  for (; k < n; ++k) out[k] = clamp01(t.tile_base + t.tile_gain * out[k]);
 }
 
 /// Albedo in [0, 1] at texture coordinates (a, b) for the squared pixel footprint fp2 (metres²).

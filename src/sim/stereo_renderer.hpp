@@ -5,6 +5,7 @@
 // spans of one surface. Pixel centres are at integer coordinates: a camera-frame point X appears at u =
 // fx·X/Z + cx, v = fy·Y/Z + cy. The right camera sits at +baseline along the left camera's x axis with the
 // same intrinsics (rectified).
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -59,28 +60,42 @@ class StereoRenderer {
  private:
   struct Prepared {
     texture::SurfaceTexture texture;
-    double A, B, C;     // 1/z = A u + B v + C
-    double Au, Bu, Cu;  // a/z
-    double Av, Bv, Cv;  // b/z
-    double nx, ny, nz;  // unit normal in the camera frame
+    double A, B, C;                // 1/z = A u + B v + C
+    double Au, Bu, Cu;             // a/z
+    double Av, Bv, Cv;             // b/z
+    double nx, ny, nz;             // unit normal in the camera frame
+    std::array<double, 8> pu, pv;  // projected polygon (after near clipping), pixels
+    int m;                         // its vertex count
+    int row0, row1;                // rows it may cover (inclusive), within the image
   };
-  void rasterise(const Pose3& T_cam_world, const SurfaceList& surfaces);
-  void shade(const Pose3& T_world_cam, std::uint64_t frame_id, int camera, cv::Mat& image, cv::Mat* depth);
+  /// Per-frame, per-camera photometric state of the shading pass.
+  struct ShadeState;
+  /// Clips, projects and prepares every surface that may be visible (no pixel work).
+  void prepare(const Pose3& T_cam_world, const SurfaceList& surfaces);
+  /// Scan-converts the prepared surfaces into the z-buffer of rows [row_begin, row_end) (one band).
+  void rasterise_band(int row_begin, int row_end);
+  /// Shades one row of the current band into the image (and depth).
+  void shade_row(int row, int row_begin, ShadeState& state, cv::Mat& image, cv::Mat* depth);
+
+  /// Rows per band: the z-buffer and surface ids of a band stay in the cache between scan conversion and
+  /// shading (the per-pixel result does not depend on the band size).
+  static constexpr int kBandRows = 16;
 
   const StereoWorld& world_;
   StereoCalibration calib_;
   RenderOptions options_;
   SurfaceList surfaces_;
   std::vector<Prepared> prepared_;
-  std::vector<float> inv_depth_;
-  std::vector<std::int32_t> surface_id_;
-  std::vector<float> ray_x_;       // (u − cx)/fx per column
-  std::vector<float> ray_norm_;    // |(x, y, 1)| of every pixel's ray
+  std::vector<float> inv_depth_;          // z-buffer of one band (1/z, 0 = nothing)
+  std::vector<std::int32_t> surface_id_;  // index into prepared_ per pixel of one band (−1 = sky)
+  std::vector<float> ray_x_;              // (u − cx)/fx per column
+  std::vector<float> ray_norm_;           // |(x, y, 1)| of every pixel's ray
   std::vector<float> vignette_x_;  // vignetting·(u − cx)²/r_corner² per column (padded to a multiple of 4)
   std::vector<float> row_albedo_;  // albedo of one row before the photometric effects (padded)
-  // Span scratch: fixed-point tile coordinates, level of detail, metres on the surface, squared footprint.
+  // Span scratch: fixed-point tile coordinates, level of detail, metres on the surface, squared footprint,
+  // depth (padded to a multiple of 4).
   std::vector<std::int32_t> span_u_, span_v_;
-  std::vector<float> span_lod_, span_a_, span_b_, span_fp2_;
+  std::vector<float> span_lod_, span_a_, span_b_, span_fp2_, span_z_;
 };
 
 }  // namespace glmbslam::sim

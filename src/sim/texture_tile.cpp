@@ -114,9 +114,8 @@ void MipTile::sample_span(const std::int32_t* U, const std::int32_t* V, const fl
   // The arithmetic of sample() and bilinear(), four pixels at a time; texel pairs fetched as 16-bit loads.
   const __m128 zero = _mm_setzero_ps(), max_lod = _mm_set1_ps(kMaxLod), one = _mm_set1_ps(1.0f),
                half = _mm_set1_ps(0.5f), inv256 = _mm_set1_ps(1.0f / 256.0f),
-               full = _mm_set1_ps(static_cast<float>(kSize)), total = _mm_set1_ps(4.0f * kSize * kSize),
-               four = _mm_set1_ps(4.0f), third = _mm_set1_ps(3.0f),
-               four_full = _mm_set1_ps(4.0f * static_cast<float>(kSize));
+               full = _mm_set1_ps(static_cast<float>(kSize));
+  const __m128i four_full_i = _mm_set1_epi32(4 * kSize);
   const __m128i period = _mm_set1_epi32(kFixedPeriodMask), ione = _mm_set1_epi32(1),
                 exp127 = _mm_set1_epi32(127), low_bytes = _mm_set1_epi16(0x00FF), izero = _mm_setzero_si128();
   const std::uint8_t* base = data_.data();
@@ -144,11 +143,16 @@ void MipTile::sample_span(const std::int32_t* U, const std::int32_t* V, const fl
       const __m128i size_i = _mm_cvttps_epi32(size);
       const __m128i mask = _mm_sub_epi32(size_i, ione);
       const __m128i stride = _mm_add_epi32(size_i, ione);
-      // Level offset Σ_{i<level} (kSize/2^i + 1)² = (4·kSize² − 4·size²)/3 + 4·kSize − 4·size + level, exact.
-      const __m128 offset = _mm_add_ps(
-          _mm_add_ps(_mm_div_ps(_mm_sub_ps(total, _mm_mul_ps(four, _mm_mul_ps(size, size))), third),
-                     _mm_sub_ps(four_full, _mm_mul_ps(four, size))),
-          _mm_cvtepi32_ps(level));
+      // Level offset Σ_{i<level} (kSize/2^i + 1)² = Σ_{i<level} 4^(kLog2Size−i) + 4·kSize − 4·size + level.
+      // The first sum, (4·kSize² − 4·size²)/3, is the bit pattern 0101…01 of 4^(kLog2Size) down to
+      // 4^(kLog2Size−level+1) = 4·size²: 0x555555 with the bits below 4·size² cleared (kSize = 2^11), i.e.
+      // 0x555555 & −(4·size²). All integers below 2^24, so this equals the float computation it replaces.
+      static_assert(kLog2Size == 11, "the 0x555555 mask holds the powers of 4 up to 4^11");
+      const __m128i size4sq = _mm_madd_epi16(_mm_slli_epi32(size_i, 1), _mm_slli_epi32(size_i, 1));  // ≤ 2^24
+      const __m128i offset =
+          _mm_add_epi32(_mm_add_epi32(_mm_and_si128(_mm_set1_epi32(0x555555), _mm_sub_epi32(izero, size4sq)),
+                                      _mm_sub_epi32(four_full_i, _mm_slli_epi32(size_i, 2))),
+                        level);
       // (um·s)·(1/256) in bilinear() equals (um/256)·s: both scalings are exact powers of two.
       const __m128 x = _mm_sub_ps(_mm_mul_ps(um, s), half);
       const __m128 y = _mm_sub_ps(_mm_mul_ps(vm, s), half);
@@ -158,8 +162,9 @@ void MipTile::sample_span(const std::int32_t* U, const std::int32_t* V, const fl
       f[j][1] = _mm_sub_ps(y, _mm_cvtepi32_ps(yi));
       const __m128i x0 = _mm_and_si128(xi, mask);
       const __m128i y0 = _mm_and_si128(yi, mask);
-      const __m128i row = _mm_cvttps_epi32(_mm_mul_ps(_mm_cvtepi32_ps(y0), _mm_cvtepi32_ps(stride)));
-      const __m128i top = _mm_add_epi32(_mm_add_epi32(_mm_cvttps_epi32(offset), row), x0);
+      // y0·stride (< 2^23, exact in the float product of bilinear()); both fit in 16 bits: one madd.
+      const __m128i row = _mm_madd_epi16(y0, stride);
+      const __m128i top = _mm_add_epi32(_mm_add_epi32(offset, row), x0);
       _mm_store_si128(reinterpret_cast<__m128i*>(idx[2 * j]), top);
       _mm_store_si128(reinterpret_cast<__m128i*>(idx[2 * j + 1]), _mm_add_epi32(top, stride));
     }
