@@ -49,73 +49,99 @@ double AssociationTable::log_weight(const int* gamma) const {
   return s;
 }
 
+void AssociationTable::end_row() {
+  const int b = row_start_.back();
+  const int e_end = static_cast<int>(column_.size());
+  row_start_.push_back(e_end);
+  double row_max = kLogZero;
+  int best = b;
+  for (int e = b; e < e_end; ++e) {
+    if (log_eta_[e] > row_max) {
+      row_max = log_eta_[e];
+      best = e;
+    }
+  }
+  bool has_missed = false;
+  eta_.resize(e_end);
+  for (int e = b; e < e_end; ++e) {
+    eta_[e] = row_max == kLogZero ? 0.0 : std::exp(log_eta_[e] - row_max);
+    if (column_[e] == kMissed && eta_[e] > 0.0) has_missed = true;
+  }
+  start_.push_back(!has_missed && e_end > b ? column_[best] : kMissed);
+}
+
 int gibbs_sample(const AssociationTable& table, int sweeps, RandomStream& rng, GibbsWorkspace& ws,
                  std::vector<int>& samples) {
-  const int P = table.rows();
+  ws.rows.resize(table.rows());
+  std::iota(ws.rows.begin(), ws.rows.end(), 0);
+  return gibbs_sample(table, ws.rows.data(), table.rows(), sweeps, rng, ws, samples, false);
+}
+
+int gibbs_sample(const AssociationTable& table, const int* row_ids, int num_rows, int sweeps,
+                 RandomStream& rng, GibbsWorkspace& ws, std::vector<int>& samples, bool skip_repeats) {
+  const int P = num_rows;
   const int M = table.num_measurements();
-  const int entries = P > 0 ? table.row_end(P - 1) : 0;
-  ws.eta.resize(entries);
-  ws.owner.assign(M + 1, -1);
+  // owner[c] for c ∈ {−1, 0, 1..M}: the row using measurement c (dead and missed are never owned, so
+  // "locked" is owner[c] ≥ 0 ∧ owner[c] ≠ i for every column)
+  ws.owner.assign(static_cast<std::size_t>(M) + 2, -1);
+  int* const owner = ws.owner.data() + 1;
   ws.current.resize(P);
-  // Linear-space η relative to each row's maximum, and the initial state.
+  int* const current = ws.current.data();
   for (int i = 0; i < P; ++i) {
-    double row_max = kLogZero;
-    int best = table.row_begin(i);
-    for (int e = table.row_begin(i); e < table.row_end(i); ++e) {
-      if (table.log_eta(e) > row_max) {
-        row_max = table.log_eta(e);
-        best = e;
-      }
-    }
-    int start = AssociationTable::kMissed;
-    bool has_missed = false;
-    for (int e = table.row_begin(i); e < table.row_end(i); ++e) {
-      ws.eta[e] = row_max == kLogZero ? 0.0 : std::exp(table.log_eta(e) - row_max);
-      if (table.column(e) == AssociationTable::kMissed && ws.eta[e] > 0.0) has_missed = true;
-    }
-    if (!has_missed && table.row_end(i) > table.row_begin(i)) {
-      start = table.column(best);
-      if (start > 0 && ws.owner[start] >= 0) start = AssociationTable::kDead;  // rare: fall back to dead
-    }
-    ws.current[i] = start;
-    if (start > 0) ws.owner[start] = i;
+    int start = table.start(row_ids[i]);
+    if (start > 0 && owner[start] >= 0) start = AssociationTable::kDead;  // rare: fall back to dead
+    current[i] = start;
+    if (start > 0) owner[start] = i;
   }
-  samples.insert(samples.end(), ws.current.begin(), ws.current.end());
-  FastUniform uniform(rng);
+  samples.insert(samples.end(), current, current + P);
+  int appended = 1;
+  const int* const column = table.column_data();
+  const double* const eta = table.eta_data();
+  FastUniform uniform(rng);  // one draw from rng per call, whatever the table
   for (int s = 0; s < sweeps; ++s) {
+    bool changed = false;
     for (int i = 0; i < P; ++i) {
-      const int b = table.row_begin(i), e_end = table.row_end(i);
+      const int r = row_ids[i];
+      const int b = table.row_begin(r), e_end = table.row_end(r);
       if (e_end - b <= 1) continue;  // a single possible value
       double total = 0.0;
       for (int e = b; e < e_end; ++e) {
-        const int c = table.column(e);
-        const bool locked = c > 0 && ws.owner[c] >= 0 && ws.owner[c] != i;
-        total += locked ? 0.0 : ws.eta[e];
+        const int o = owner[column[e]];
+        if (!(o >= 0 && o != i)) total += eta[e];
       }
       if (!(total > 0.0)) continue;  // no valid choice: keep the current value
       double u = uniform() * total;
-      int chosen = ws.current[i];
+      int chosen = current[i];
       for (int e = b; e < e_end; ++e) {
-        const int c = table.column(e);
-        const bool locked = c > 0 && ws.owner[c] >= 0 && ws.owner[c] != i;
-        if (locked || ws.eta[e] <= 0.0) continue;
-        chosen = c;
-        u -= ws.eta[e];
+        const int o = owner[column[e]];
+        if ((o >= 0 && o != i) || eta[e] <= 0.0) continue;
+        chosen = column[e];
+        u -= eta[e];
         if (u < 0.0) break;
       }
-      if (ws.current[i] > 0) ws.owner[ws.current[i]] = -1;
-      ws.current[i] = chosen;
-      if (chosen > 0) ws.owner[chosen] = i;
+      if (chosen != current[i]) {
+        if (current[i] > 0) owner[current[i]] = -1;
+        current[i] = chosen;
+        if (chosen > 0) owner[chosen] = i;
+        changed = true;
+      }
     }
-    samples.insert(samples.end(), ws.current.begin(), ws.current.end());
+    if (changed || !skip_repeats) {
+      samples.insert(samples.end(), current, current + P);
+      ++appended;
+    }
   }
-  return sweeps + 1;
+  return appended;
 }
 
 int unique_solutions(std::vector<int>& samples, int row_count, int count) {
   if (row_count == 0) {
     samples.clear();
     return count > 0 ? 1 : 0;
+  }
+  if (count <= 1) {
+    samples.resize(static_cast<std::size_t>(count > 0 ? count : 0) * row_count);
+    return count > 0 ? count : 0;
   }
   thread_local std::vector<std::pair<std::uint64_t, int>> keyed;
   thread_local std::vector<int> out;

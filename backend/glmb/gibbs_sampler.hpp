@@ -28,14 +28,17 @@ class AssociationTable {
     row_start_.push_back(0);
     column_.clear();
     log_eta_.clear();
+    eta_.clear();
+    start_.clear();
   }
   /// Adds entry (column, log η) to the current (last) row. Entries with log η = −∞ may be skipped by callers.
   void add(int column, double log_eta) {
     column_.push_back(column);
     log_eta_.push_back(log_eta);
   }
-  /// Closes the current row; the next add() starts a new one.
-  void end_row() { row_start_.push_back(static_cast<int>(column_.size())); }
+  /// Closes the current row (and prepares it for sampling: η relative to the row maximum and the row's
+  /// starting value); the next add() starts a new one.
+  void end_row();
 
   int rows() const { return static_cast<int>(row_start_.size()) - 1; }
   int num_measurements() const { return num_measurements_; }
@@ -43,6 +46,13 @@ class AssociationTable {
   int row_end(int i) const { return row_start_[i + 1]; }
   int column(int e) const { return column_[e]; }
   double log_eta(int e) const { return log_eta_[e]; }
+  /// exp(log η − the row's maximum) (0 for a row whose entries are all −∞).
+  double eta(int e) const { return eta_[e]; }
+  /// The sampler's initial value for row i: kMissed if the row has a non-zero missed entry (or no entry),
+  /// otherwise the column of its best entry.
+  int start(int i) const { return start_[i]; }
+  const int* column_data() const { return column_.data(); }
+  const double* eta_data() const { return eta_.data(); }
 
   /// log Π_i η_i(γ_i) for an assignment (−∞ if some γ_i has no entry).
   double log_weight(const int* gamma) const;
@@ -52,14 +62,15 @@ class AssociationTable {
   std::vector<int> row_start_{0};
   std::vector<int> column_;
   std::vector<double> log_eta_;
+  std::vector<double> eta_;
+  std::vector<int> start_;
 };
 
 /// Reusable buffers so that repeated sampling does not allocate.
 struct GibbsWorkspace {
-  std::vector<double> eta;    ///< per entry: exp(log η − row max)
-  std::vector<int> owner;     ///< per measurement column: the row using it, or −1
-  std::vector<int> current;   ///< current γ
-  std::vector<double> probs;  ///< per-entry scratch
+  std::vector<int> owner;    ///< per column c (at c + 1): the row using measurement c, or −1
+  std::vector<int> current;  ///< current γ
+  std::vector<int> rows;     ///< row ids (identity) for the whole-table overload
 };
 
 /// Runs `sweeps` Gibbs sweeps starting from "all missed" (rows without a missed entry start at their best
@@ -67,6 +78,14 @@ struct GibbsWorkspace {
 /// Returns the number of solutions appended (sweeps + 1). A table with zero rows yields one empty solution.
 int gibbs_sample(const AssociationTable& table, int sweeps, RandomStream& rng, GibbsWorkspace& ws,
                  std::vector<int>& samples);
+
+/// The same chain over the sub-table made of rows row_ids[0..num_rows) of `table` (in that order), so that
+/// rows prepared once can be sampled for many subsets. γ is indexed by position in row_ids. With
+/// skip_repeats, a sweep that leaves γ unchanged is not appended (it repeats the previous solution; the
+/// distinct solutions and their first-occurrence order are unchanged); returns the number appended.
+/// The random numbers drawn do not depend on skip_repeats.
+int gibbs_sample(const AssociationTable& table, const int* row_ids, int num_rows, int sweeps,
+                 RandomStream& rng, GibbsWorkspace& ws, std::vector<int>& samples, bool skip_repeats);
 
 /// Removes duplicate solutions (each `row_count` ints, stored contiguously) in place, in an order that
 /// depends only on the solutions; returns the number of distinct solutions.

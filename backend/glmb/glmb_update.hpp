@@ -172,6 +172,8 @@ class GlmbUpdater {
       ws.birth_prior_id[b] = n_old + static_cast<int>(ws.extra.size());
       ws.extra.push_back(TrackType{bc.label, bc.mean, bc.cov, bc.appearance});
     }
+    const int birth_pair_first =
+        n_old + static_cast<int>(ws.extra.size());  // births' updated pairs from here
     // A birth that gates with no measurement can only be "not born" or "born and missed"; the second has a
     // relative weight of about r_B (1 − p_D) (below the pruning threshold for the paper's r_B), so such
     // births are marginalised out of the sampler: every child gets the factor η(−1) + η(0) and the birth is
@@ -196,6 +198,14 @@ class GlmbUpdater {
       }
     }
     ws.source_begin.push_back(static_cast<int>(ws.entry_column.size()));
+    // the sampler's rows, prepared once (η relative to the row maximum) and shared by every parent
+    const int n_sources = num_active + n_birth;
+    ws.sources.reset(M);
+    for (int s = 0; s < n_sources; ++s) {
+      for (int e = ws.source_begin[s]; e < ws.source_begin[s + 1]; ++e)
+        ws.sources.add(ws.entry_column[e], ws.entry_log_eta[e]);
+      ws.sources.end_row();
+    }
 
     // 3. per parent hypothesis: Gibbs sampling of the children. A child is stored as (parent, the ids its
     // rows chose); the parent's out-of-view ids, identical in all its children, are kept once per parent,
@@ -209,57 +219,110 @@ class GlmbUpdater {
     const int n_parents = static_cast<int>(prior.hypotheses.size());
     double sum_sqrt = 0.0;
     for (const auto& h : prior.hypotheses) sum_sqrt += std::exp(0.5 * h.log_weight);
+    // a parent's hash (used in step 5): the wrapping sum of per-id hashes over its out-of-view ids plus
+    // their count (independent additions that pipeline, unlike a chained hash); computed while the ids are
+    // collected. The per-id hashes depend only on the id, so the table is kept between calls.
+    for (int t = static_cast<int>(ws.id_hash.size()); t < n_old; ++t)
+      ws.id_hash.push_back(splitmix64(static_cast<std::uint64_t>(t) + 0x2545f4914f6cdd1dULL));
+    ws.parent_hash.resize(n_parents);
+    ws.birth_rows.clear();
+    for (int b = 0; b < n_birth; ++b)
+      if (ws.birth_in_sampler[b]) ws.birth_rows.push_back(num_active + b);
     for (int p = 0; p < n_parents; ++p) {
       const Hypothesis& h = prior.hypotheses[p];
-      ws.row_source.clear();
-      ws.parent_inactive_begin.push_back(static_cast<int>(ws.parent_inactive.size()));
-      for (std::uint32_t t : h.tracks) {
-        if (ws.source_of_track[t] >= 0)
-          ws.row_source.push_back(ws.source_of_track[t]);
-        else
-          ws.parent_inactive.push_back(t);  // out of view: copied through to every child
+      const std::size_t n_h = h.tracks.size();
+      const std::size_t inactive_first = ws.parent_inactive.size();
+      ws.parent_inactive_begin.push_back(static_cast<int>(inactive_first));
+      ws.parent_inactive.resize(inactive_first + n_h);
+      ws.row_source.resize(n_h + ws.birth_rows.size());
+      std::uint32_t* inactive_out = ws.parent_inactive.data() + inactive_first;
+      int* row_out = ws.row_source.data();
+      const int* const source_of_track = ws.source_of_track.data();
+      const std::uint64_t* const id_hash = ws.id_hash.data();
+      std::uint64_t hsh = 0;
+      for (const std::uint32_t t : h.tracks) {
+        const int s = source_of_track[t];
+        if (s >= 0) {
+          *row_out++ = s;
+        } else {
+          *inactive_out++ = t;  // out of view: copied through to every child
+          hsh += id_hash[t];
+        }
       }
-      for (int b = 0; b < n_birth; ++b)
-        if (ws.birth_in_sampler[b]) ws.row_source.push_back(num_active + b);
-      ws.table.reset(M);
-      for (int s : ws.row_source) {
-        for (int e = ws.source_begin[s]; e < ws.source_begin[s + 1]; ++e)
-          ws.table.add(ws.entry_column[e], ws.entry_log_eta[e]);
-        ws.table.end_row();
-      }
-      const int rows = ws.table.rows();
+      const std::size_t n_inactive =
+          static_cast<std::size_t>(inactive_out - ws.parent_inactive.data()) - inactive_first;
+      ws.parent_hash[p] = static_cast<std::uint64_t>(n_inactive) + hsh;
+      ws.parent_inactive.resize(inactive_first + n_inactive);
+      row_out = std::copy(ws.birth_rows.begin(), ws.birth_rows.end(), row_out);
+      ws.row_source.resize(static_cast<std::size_t>(row_out - ws.row_source.data()));
+      const int rows = static_cast<int>(ws.row_source.size());
       const int sweeps =
           rows == 0 ? 0
                     : std::max(1, static_cast<int>(std::lround(config_.gibbs_samples *
                                                                std::exp(0.5 * h.log_weight) / sum_sqrt)));
       ws.samples.clear();
-      const int count = gibbs_sample(ws.table, sweeps, rng, ws.gibbs, ws.samples);
+      const int count =
+          gibbs_sample(ws.sources, ws.row_source.data(), rows, sweeps, rng, ws.gibbs, ws.samples, true);
       const int distinct = unique_solutions(ws.samples, rows, count);
+      // The ids a child chooses come in four classes with increasing id ranges: missed tracks (< n_old),
+      // updated track pairs, birth priors and updated birth pairs. Within each class they increase with the
+      // row, so the child's sorted id list is the classes' concatenation (track rows give the first two,
+      // birth rows the last two).
+      const int track_rows = rows - static_cast<int>(ws.birth_rows.size());
+      const int* const source_begin = ws.source_begin.data();
+      const int* const entry_column = ws.entry_column.data();
+      const double* const entry_log_eta = ws.entry_log_eta.data();
+      const int* const entry_id = ws.entry_id.data();
+      const int* const row_source = ws.row_source.data();
       for (int c = 0; c < distinct; ++c) {
         const int* gamma = ws.samples.data() + static_cast<std::size_t>(c) * rows;
         double log_w = h.log_weight + log_birth_factor;
-        ws.child_begin.push_back(static_cast<int>(ws.child_ids.size()));
+        const std::size_t first = ws.child_ids.size();
+        ws.child_ids.resize(first + static_cast<std::size_t>(rows));
+        std::uint32_t* const ids = ws.child_ids.data() + first;
+        int n_low = 0, n_high = 0;  // ids of the current row group below / at or above its split
+        std::uint32_t* const high = ws.id_scratch.size() >= static_cast<std::size_t>(rows)
+                                        ? ws.id_scratch.data()
+                                        : (ws.id_scratch.resize(rows), ws.id_scratch.data());
         // row i's chosen entry: its log η joins log_w and its track id joins the child (the track's own index
         // when missed, an updated pair track ≥ n_old when detected, nothing when dead / not born)
-        for (int i = 0; i < rows && log_w != kLogZero; ++i) {
-          const int s = ws.row_source[i];
-          int id = -2;
-          for (int e = ws.source_begin[s]; e < ws.source_begin[s + 1]; ++e) {
-            if (ws.entry_column[e] == gamma[i]) {
-              log_w += ws.entry_log_eta[e];
-              id = ws.entry_id[e];
-              break;
+        auto choose = [&](int i) {
+          const int s = row_source[i];
+          for (int e = source_begin[s]; e < source_begin[s + 1]; ++e) {
+            if (entry_column[e] == gamma[i]) {
+              log_w += entry_log_eta[e];
+              return entry_id[e];
             }
           }
-          if (id == -2) log_w = kLogZero;
-          if (id >= 0) ws.child_ids.push_back(static_cast<std::uint32_t>(id));
+          log_w = kLogZero;
+          return -2;
+        };
+        for (int i = 0; i < track_rows && log_w != kLogZero; ++i) {
+          const int id = choose(i);
+          if (id < 0) continue;
+          if (id < n_old)
+            ids[n_low++] = static_cast<std::uint32_t>(id);
+          else
+            high[n_high++] = static_cast<std::uint32_t>(id);
+        }
+        std::copy(high, high + n_high, ids + n_low);
+        n_low += n_high;
+        n_high = 0;
+        for (int i = track_rows; i < rows && log_w != kLogZero; ++i) {
+          const int id = choose(i);
+          if (id < 0) continue;
+          if (id < birth_pair_first)
+            ids[n_low++] = static_cast<std::uint32_t>(id);
+          else
+            high[n_high++] = static_cast<std::uint32_t>(id);
         }
         if (log_w == kLogZero) {
-          ws.child_ids.resize(ws.child_begin.back());
-          ws.child_begin.pop_back();
+          ws.child_ids.resize(first);
           continue;
         }
-        std::sort(ws.child_ids.begin() + ws.child_begin.back(), ws.child_ids.end());
+        std::copy(high, high + n_high, ids + n_low);
+        ws.child_ids.resize(first + static_cast<std::size_t>(n_low + n_high));
+        ws.child_begin.push_back(static_cast<int>(first));
         ws.child_log_w.push_back(log_w);
         ws.child_parent.push_back(p);
       }
@@ -278,17 +341,7 @@ class GlmbUpdater {
     // are in the same class and they chose the same ids.
     auto inactive_begin = [&](int p) { return ws.parent_inactive.begin() + ws.parent_inactive_begin[p]; };
     auto inactive_end = [&](int p) { return ws.parent_inactive.begin() + ws.parent_inactive_begin[p + 1]; };
-    // a parent's hash: the wrapping sum of per-id hashes over its out-of-view ids (independent additions
-    // that pipeline, unlike a chained hash); equal hashes are confirmed by comparing the lists
-    ws.id_hash.resize(n_old);
-    for (int t = 0; t < n_old; ++t)
-      ws.id_hash[t] = splitmix64(static_cast<std::uint64_t>(t) + 0x2545f4914f6cdd1dULL);
-    ws.parent_hash.resize(n_parents);
-    for (int p = 0; p < n_parents; ++p) {
-      std::uint64_t hsh = static_cast<std::uint64_t>(inactive_end(p) - inactive_begin(p));
-      for (auto it = inactive_begin(p); it != inactive_end(p); ++it) hsh += ws.id_hash[*it];
-      ws.parent_hash[p] = hsh;
-    }
+    // (parent hashes: computed in step 3; equal hashes are confirmed by comparing the lists)
     ws.parent_order.resize(n_parents);
     std::iota(ws.parent_order.begin(), ws.parent_order.end(), 0);
     std::sort(ws.parent_order.begin(), ws.parent_order.end(), [&](int a, int b) {
@@ -356,10 +409,15 @@ class GlmbUpdater {
 
     // compaction: new indices in increasing id order, so sorted id lists stay sorted
     const int n_ids = n_old + static_cast<int>(ws.extra.size());
+    // (the out-of-view ids of a class — parents with identical lists — are marked and remapped once)
     ws.new_index.assign(n_ids, -1);
+    ws.class_remap_begin.assign(n_parents, -1);
     for (const auto& mc : ws.merged) {
-      const int p = ws.child_parent[mc.first];
-      for (auto it = inactive_begin(p); it != inactive_end(p); ++it) ws.new_index[*it] = 0;
+      const int cls = ws.parent_class[ws.child_parent[mc.first]];
+      if (ws.class_remap_begin[cls] == -1) {
+        ws.class_remap_begin[cls] = -2;  // marked
+        for (auto it = inactive_begin(cls); it != inactive_end(cls); ++it) ws.new_index[*it] = 0;
+      }
       for (int k = ws.child_begin[mc.first]; k < ws.child_begin[mc.first + 1]; ++k)
         ws.new_index[ws.child_ids[k]] = 0;
     }
@@ -369,18 +427,35 @@ class GlmbUpdater {
       ws.new_index[id] = static_cast<int>(posterior.tracks.size());
       posterior.tracks.push_back(id < n_old ? prior.tracks[id] : ws.extra[id - n_old]);
     }
+    ws.class_remap.clear();
+    for (const auto& mc : ws.merged) {
+      const int cls = ws.parent_class[ws.child_parent[mc.first]];
+      if (ws.class_remap_begin[cls] >= 0) continue;
+      ws.class_remap_begin[cls] = static_cast<int>(ws.class_remap.size());
+      for (auto it = inactive_begin(cls); it != inactive_end(cls); ++it)
+        ws.class_remap.push_back(static_cast<std::uint32_t>(ws.new_index[*it]));
+    }
     posterior.hypotheses.resize(ws.merged.size());
     for (std::size_t k = 0; k < ws.merged.size(); ++k) {
       const auto& mc = ws.merged[k];
-      const int p = ws.child_parent[mc.first];
+      const int cls = ws.parent_class[ws.child_parent[mc.first]];
       Hypothesis& h = posterior.hypotheses[k];
       h.log_weight = mc.second - log_kept;
-      h.tracks.resize(static_cast<std::size_t>((inactive_end(p) - inactive_begin(p)) +
-                                               (ws.child_begin[mc.first + 1] - ws.child_begin[mc.first])));
-      // the union of two sorted id lists (disjoint: out-of-view ids and chosen ids), remapped monotonically
-      std::merge(inactive_begin(p), inactive_end(p), ws.child_ids.begin() + ws.child_begin[mc.first],
-                 ws.child_ids.begin() + ws.child_begin[mc.first + 1], h.tracks.begin());
-      for (auto& id : h.tracks) id = static_cast<std::uint32_t>(ws.new_index[id]);
+      const std::uint32_t* in = ws.class_remap.data() + ws.class_remap_begin[cls];
+      const std::uint32_t* const in_end = in + (inactive_end(cls) - inactive_begin(cls));
+      const int c_begin = ws.child_begin[mc.first], c_end = ws.child_begin[mc.first + 1];
+      h.tracks.resize(static_cast<std::size_t>((in_end - in) + (c_end - c_begin)));
+      // the union of two sorted id lists (disjoint: out-of-view ids and chosen ids), both remapped
+      // monotonically: each of the few chosen ids is inserted into the long out-of-view run
+      std::uint32_t* out = h.tracks.data();
+      for (int c = c_begin; c < c_end; ++c) {
+        const auto id = static_cast<std::uint32_t>(ws.new_index[ws.child_ids[c]]);
+        const std::uint32_t* const pos = std::lower_bound(in, in_end, id);
+        out = std::copy(in, pos, out);
+        *out++ = id;
+        in = pos;
+      }
+      std::copy(in, in_end, out);
     }
     if (posterior.hypotheses.empty()) posterior.hypotheses.push_back(Hypothesis{0.0, {}});
     posterior.frozen = prior.frozen;
@@ -409,17 +484,19 @@ class GlmbUpdater {
  private:
   struct Workspace {
     std::vector<char> active;
-    std::vector<int> source_of_track, source_begin, entry_column, entry_id, birth_prior_id, row_source;
+    std::vector<int> source_of_track, source_begin, entry_column, entry_id, birth_prior_id, row_source,
+        birth_rows;
     std::vector<double> entry_log_eta;
     std::vector<char> explained, birth_in_sampler;
     std::vector<TrackType, Eigen::aligned_allocator<TrackType>> extra;
-    AssociationTable table;
+    AssociationTable sources;  ///< one row per source (active track or birth)
     GibbsWorkspace gibbs;
     std::vector<int> samples;
-    std::vector<std::uint32_t> child_ids;
+    std::vector<std::uint32_t> child_ids, id_scratch;
     std::vector<int> child_begin, order, new_index, child_parent;
     std::vector<std::uint32_t> parent_inactive;
-    std::vector<int> parent_inactive_begin, parent_order, parent_class;
+    std::vector<int> parent_inactive_begin, parent_order, parent_class, class_remap_begin;
+    std::vector<std::uint32_t> class_remap;
     std::vector<std::uint64_t> parent_hash, id_hash;
     std::vector<int> scratch;
     std::vector<double> child_log_w;

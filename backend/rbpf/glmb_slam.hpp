@@ -19,6 +19,7 @@
 // between particles through shared_ptr, so resampling copies pointers.
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <memory>
 #include <stdexcept>
 #include <vector>
@@ -90,7 +91,7 @@ class GlmbSlam {
     if (config.resampling != "always" && config.resampling != "ess")
       throw ConfigError("rbpf.resampling must be 'always' or 'ess'");
     auto root = std::make_shared<const Node>(initial_pose, 0, nullptr);
-    auto empty = std::make_shared<const Map>(Map::empty());
+    std::shared_ptr<const Map> empty = std::make_shared<Map>(Map::empty());  // non-const: recyclable
     const double log_w = -std::log(static_cast<double>(config.particles));
     particles_.assign(config.particles, Particle{log_w, root, empty});
     best_ = particles_[0];
@@ -124,6 +125,17 @@ class GlmbSlam {
     const bool mh = config_.proposal == "mh";
     const bool paper = config_.weighting == "paper";
     if (mh) mh_.build(particles_, u, Z);
+    // the posterior maps: storage of maps no longer referenced (recycled at the end of the previous step,
+    // keeping the capacity of their vectors) or new ones
+    fresh_.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      if (!pool_.empty()) {
+        fresh_[i] = std::move(pool_.back());
+        pool_.pop_back();
+      } else {
+        fresh_[i] = std::make_shared<Map>();
+      }
+    }
     parallel_for(n, [&](std::size_t i) {
       RandomStream rng(config_.seed, (static_cast<std::uint64_t>(k) << 24) + i);
       const Particle& p = particles_[i];
@@ -149,7 +161,7 @@ class GlmbSlam {
         x = motion_.sample(x_prev, u, rng);
         x_estimate = x;
       }
-      auto map = std::make_shared<Map>();
+      std::shared_ptr<Map> map = std::move(fresh_[i]);
       const GlmbUpdateStats s = updater_.update(*p.map, x, Z, k, rng, *map);
       if (!optimal || !paper) log_increment += s.log_normalizer;
       Particle& out = next_[i];
@@ -177,6 +189,8 @@ class GlmbSlam {
     report.log_likelihood = stats_[best].log_normalizer;
     best_ = next_[best];
     weighted_mean_ = weighted_mean(next_);
+    retired_.clear();
+    for (const auto& p : particles_) retired_.push_back(p.map);
     particles_.swap(next_);
     // resample
     const bool resample =
@@ -187,6 +201,14 @@ class GlmbSlam {
       ++resample_count_;
     }
     for (auto& p : next_) p = Particle{};  // release references held by the scratch copies
+    // the previous maps no particle uses any more go to the pool (each once; the const_pointer_cast is
+    // sound: every map here was created non-const by this class)
+    std::sort(retired_.begin(), retired_.end(),
+              [](const auto& a, const auto& b) { return std::less<const Map*>()(a.get(), b.get()); });
+    retired_.erase(std::unique(retired_.begin(), retired_.end()), retired_.end());
+    for (auto& m : retired_)
+      if (m.use_count() == 1) pool_.push_back(std::const_pointer_cast<Map>(std::move(m)));
+    retired_.clear();
     report.resampled = resample && n > 1;
     step_ = k;
     report.ms = watch.elapsed_ms();
@@ -230,6 +252,8 @@ class GlmbSlam {
   OptimalProposal<Motion, Meas> proposal_;
   MhPerParent<Motion, Meas> mh_;  ///< proposal "mh"
   std::vector<Particle> particles_, next_;
+  std::vector<std::shared_ptr<Map>> fresh_, pool_;   ///< posterior maps of this step; recyclable maps
+  std::vector<std::shared_ptr<const Map>> retired_;  ///< the previous step's maps, checked for reuse
   std::vector<GlmbUpdateStats> stats_;
   std::vector<double> log_w_;
   Particle best_;

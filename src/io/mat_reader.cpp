@@ -146,10 +146,36 @@ Eigen::MatrixXd to_matrix(const std::string& file, const std::string& what, cons
 
 }  // namespace
 
+// Variables are read lazily and once: a lookup reads the file sequentially (Mat_VarReadNext, one pass that
+// decodes each variable's header and data once) up to the requested variable, caching every variable it
+// passes, so reading the variables in file order costs a single pass. A variable that pass cannot reach
+// (Mat_VarReadNext stops early on a variable matio cannot read) is looked up by name as before.
 struct MatFile::Handle {
   mat_t* mat = nullptr;
+  std::vector<VarPtr> cache;     ///< variables read so far (sequentially, then by name)
+  bool sequential_done = false;  ///< Mat_VarReadNext returned null: end of file, or an unreadable variable
+  bool names_done = false;       ///< names_ lists every variable (a Mat_VarReadNextInfo pass was made)
   ~Handle() {
     if (mat != nullptr) Mat_Close(mat);
+  }
+  matvar_t* cached(const std::string& name) const {
+    for (const auto& v : cache)
+      if (v->name != nullptr && name == v->name) return v.get();
+    return nullptr;
+  }
+  /// The variable from the cache or the sequential pass; null if the pass ends without it.
+  matvar_t* find(const std::string& name) {
+    if (matvar_t* v = cached(name)) return v;
+    while (!sequential_done) {
+      VarPtr v(Mat_VarReadNext(mat));
+      if (!v) {
+        sequential_done = true;
+        break;
+      }
+      cache.push_back(std::move(v));
+      if (cache.back()->name != nullptr && name == cache.back()->name) return cache.back().get();
+    }
+    return nullptr;
   }
 };
 
@@ -157,19 +183,31 @@ MatFile::MatFile(const std::filesystem::path& path) : path_(path), handle_(std::
   if (!std::filesystem::is_regular_file(path)) throw InputError(path.string(), "file not found");
   handle_->mat = Mat_Open(path.string().c_str(), MAT_ACC_RDONLY);
   if (handle_->mat == nullptr) throw InputError(path.string(), "not a readable MATLAB .mat file");
-  while (matvar_t* info = Mat_VarReadNextInfo(handle_->mat)) {
-    VarPtr guard(info);
-    if (info->name != nullptr) names_.emplace_back(info->name);
-  }
-  Mat_Rewind(handle_->mat);
 }
 
 MatFile::~MatFile() = default;
 MatFile::MatFile(MatFile&&) noexcept = default;
 MatFile& MatFile::operator=(MatFile&&) noexcept = default;
 
+const std::vector<std::string>& MatFile::variable_names() const {
+  if (!handle_->names_done) {
+    // a separate pass over the headers; the sequential pass cannot resume after it
+    handle_->sequential_done = true;
+    Mat_Rewind(handle_->mat);
+    names_.clear();
+    while (matvar_t* info = Mat_VarReadNextInfo(handle_->mat)) {
+      VarPtr guard(info);
+      if (info->name != nullptr) names_.emplace_back(info->name);
+    }
+    Mat_Rewind(handle_->mat);
+    handle_->names_done = true;
+  }
+  return names_;
+}
+
 bool MatFile::has(const std::string& name) const {
-  for (const auto& n : names_) {
+  if (!handle_->names_done && handle_->find(name) != nullptr) return true;
+  for (const auto& n : variable_names()) {
     if (n == name) return true;
   }
   return false;
@@ -177,19 +215,22 @@ bool MatFile::has(const std::string& name) const {
 
 namespace {
 
-VarPtr read_variable(mat_t* mat, const std::string& file, const std::string& name, bool has) {
-  if (!has) throw InputError(file, "variable '" + name + "' is missing");
-  VarPtr v(Mat_VarRead(mat, name.c_str()));
-  if (!v) throw InputError(file, "variable '" + name + "' cannot be read");
-  return v;
+/// The variable `name` of `handle` (owned by the handle), read once.
+matvar_t* read_variable(MatFile::Handle& handle, const MatFile& file, const std::string& name) {
+  if (matvar_t* v = handle.find(name)) return v;
+  if (!file.has(name)) throw InputError(file.path().string(), "variable '" + name + "' is missing");
+  VarPtr v(Mat_VarRead(handle.mat, name.c_str()));
+  if (!v) throw InputError(file.path().string(), "variable '" + name + "' cannot be read");
+  handle.cache.push_back(std::move(v));
+  return handle.cache.back().get();
 }
 
 }  // namespace
 
 Eigen::MatrixXd MatFile::read_matrix(const std::string& name, Eigen::Index rows, Eigen::Index cols,
                                      bool require_finite) const {
-  const VarPtr v = read_variable(handle_->mat, path_.string(), name, has(name));
-  return to_matrix(path_.string(), name, v.get(), rows, cols, require_finite, false);
+  const matvar_t* v = read_variable(*handle_, *this, name);
+  return to_matrix(path_.string(), name, v, rows, cols, require_finite, false);
 }
 
 Eigen::VectorXd MatFile::read_vector(const std::string& name, Eigen::Index length,
@@ -212,14 +253,14 @@ double MatFile::read_scalar(const std::string& name) const {
 
 std::vector<Eigen::MatrixXd> MatFile::read_cell_matrices(const std::string& name, Eigen::Index rows,
                                                          Eigen::Index cell_count, bool require_finite) const {
-  const VarPtr v = read_variable(handle_->mat, path_.string(), name, has(name));
+  matvar_t* const v = read_variable(*handle_, *this, name);
   if (v->class_type != MAT_C_CELL) {
     throw InputError(path_.string(), "variable '" + name + "' must be a cell array, found class " +
                                          class_name(v->class_type));
   }
   if (v->rank != 2 || (v->dims[0] != 1 && v->dims[1] != 1 && v->dims[0] * v->dims[1] != 0)) {
-    throw InputError(path_.string(), "variable '" + name + "' must be a 1xn or nx1 cell array, found " +
-                                         shape_string(v.get()));
+    throw InputError(path_.string(),
+                     "variable '" + name + "' must be a 1xn or nx1 cell array, found " + shape_string(v));
   }
   const std::size_t n = v->dims[0] * v->dims[1];
   if (cell_count != kAnySize && static_cast<Eigen::Index>(n) != cell_count) {
@@ -229,7 +270,7 @@ std::vector<Eigen::MatrixXd> MatFile::read_cell_matrices(const std::string& name
   std::vector<Eigen::MatrixXd> out;
   out.reserve(n);
   for (std::size_t i = 0; i < n; ++i) {
-    const matvar_t* cell = Mat_VarGetCell(v.get(), static_cast<int>(i));
+    const matvar_t* cell = Mat_VarGetCell(v, static_cast<int>(i));
     const std::string what = name + "{" + std::to_string(i + 1) + "}";
     if (cell == nullptr) throw InputError(path_.string(), "variable '" + what + "' cannot be read");
     out.push_back(to_matrix(path_.string(), what, cell, rows, kAnySize, require_finite, true));

@@ -26,7 +26,7 @@ class MatFile {
 
   const std::filesystem::path& path() const { return path_; }
   /// Names of the variables in the file, in file order.
-  const std::vector<std::string>& variable_names() const { return names_; }
+  const std::vector<std::string>& variable_names() const;
   bool has(const std::string& name) const;
 
   /// A real numeric 2-D matrix (any numeric class, converted to double). rows/cols = kAnySize accept any
@@ -51,8 +51,12 @@ class MatFile {
 
  private:
   std::filesystem::path path_;
-  std::vector<std::string> names_;
-  struct Handle;
+  mutable std::vector<std::string> names_;  ///< filled by the first variable_names()
+
+ public:
+  struct Handle;  ///< libmatio state and the variables read so far (mat_reader.cpp)
+
+ private:
   std::unique_ptr<Handle> handle_;
 };
 
