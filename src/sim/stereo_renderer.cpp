@@ -79,6 +79,8 @@ StereoRenderer::StereoRenderer(const StereoWorld& world, const StereoCalibration
   span_b_.resize(padded);
   span_fp2_.resize(padded);
   span_z_.resize(padded);
+  row_w_stride_ = padded;
+  row_w_.resize(4 * padded);
   texture::MipTile::mondrian();  // build the shared tile now rather than inside the first frame
 }
 
@@ -224,6 +226,10 @@ void StereoRenderer::rasterise_band(int row_begin, int row_end) {
     const int r0 = std::max(p.row0, row_begin);
     const int r1 = std::min(p.row1, row_end - 1);
     const int m = p.m;
+    // Pixel spans of the surface in the band's rows.
+    int spans = 0;
+    std::array<int, kBandRows> span_row, span_col0, span_col1;
+    std::array<double, kBandRows> span_w;
     for (int row = r0; row <= r1; ++row) {
       const double y = row;
       double xmin = 1e300, xmax = -1e300;
@@ -247,17 +253,68 @@ void StereoRenderer::rasterise_band(int row_begin, int row_end) {
       const int col1 =
           std::min(W - 1, static_cast<int>(std::floor(std::min(xmax + kEps, static_cast<double>(W)))));
       if (col0 > col1) continue;
-      const std::size_t base = static_cast<std::size_t>(row - row_begin) * static_cast<std::size_t>(W);
-      float* zb = inv_depth_.data() + base;
-      std::int32_t* ids = surface_id_.data() + base;
-      const auto sid = static_cast<std::int32_t>(id);
-      // 1/z stepped in double along the row (the reference sequence of values), tested in float.
-      double w = p.A * col0 + p.B * y + p.C;
-      for (int col = col0; col <= col1; ++col, w += p.A) {
-        const float wf = static_cast<float>(w);
-        if (wf > zb[col]) {
-          zb[col] = wf;
-          ids[col] = sid;
+      span_row[spans] = row - row_begin;
+      span_col0[spans] = col0;
+      span_col1[spans] = col1;
+      span_w[spans] = p.A * col0 + p.B * y + p.C;
+      ++spans;
+    }
+    // 1/z is stepped in double along each row (w += A from the row's first pixel: the reference sequence of
+    // values) and tested in float. The steps of one row form a dependency chain, so four rows are stepped
+    // together into row buffers, then each row is depth-tested four pixels at a time (pixels are
+    // independent within one surface).
+    const auto sid = static_cast<std::int32_t>(id);
+    for (int g = 0; g < spans; g += 4) {
+      const int rows = std::min(4, spans - g);
+      int len = 0;
+      double w[4] = {0.0, 0.0, 0.0, 0.0};
+      for (int r = 0; r < rows; ++r) {
+        len = std::max(len, span_col1[g + r] - span_col0[g + r] + 1);
+        w[r] = span_w[g + r];
+      }
+      float* b0 = row_w_.data();
+      float* b1 = b0 + row_w_stride_;
+      float* b2 = b1 + row_w_stride_;
+      float* b3 = b2 + row_w_stride_;
+      double w0 = w[0], w1 = w[1], w2 = w[2], w3 = w[3];
+      const double A = p.A;
+      for (int k = 0; k < len; ++k) {  // rows past their own length (or absent) step harmlessly
+        b0[k] = static_cast<float>(w0);
+        b1[k] = static_cast<float>(w1);
+        b2[k] = static_cast<float>(w2);
+        b3[k] = static_cast<float>(w3);
+        w0 += A;
+        w1 += A;
+        w2 += A;
+        w3 += A;
+      }
+      for (int r = 0; r < rows; ++r) {
+        const int col0 = span_col0[g + r];
+        const int n = span_col1[g + r] - col0 + 1;
+        const std::size_t base = static_cast<std::size_t>(span_row[g + r]) * static_cast<std::size_t>(W) +
+                                 static_cast<std::size_t>(col0);
+        float* zb = inv_depth_.data() + base;
+        std::int32_t* ids = surface_id_.data() + base;
+        const float* wf = row_w_.data() + static_cast<std::size_t>(r) * row_w_stride_;
+        int k = 0;
+#if defined(__SSE2__)
+        const __m128i vsid = _mm_set1_epi32(sid);
+        for (; k + 4 <= n; k += 4) {
+          const __m128 wv = _mm_loadu_ps(wf + k);
+          const __m128 zv = _mm_loadu_ps(zb + k);
+          const __m128 in_front = _mm_cmpgt_ps(wv, zv);  // wf > zb, false for NaN like the scalar test
+          const __m128i mi = _mm_castps_si128(in_front);
+          _mm_storeu_ps(zb + k, _mm_or_ps(_mm_and_ps(in_front, wv), _mm_andnot_ps(in_front, zv)));
+          const __m128i iv = _mm_loadu_si128(reinterpret_cast<const __m128i*>(ids + k));
+          _mm_storeu_si128(reinterpret_cast<__m128i*>(ids + k),
+                           _mm_or_si128(_mm_and_si128(mi, vsid), _mm_andnot_si128(mi, iv)));
+        }
+#endif
+        for (; k < n; ++k) {
+          if (wf[k] > zb[k]) {
+            zb[k] = wf[k];
+            ids[k] = sid;
+          }
         }
       }
     }

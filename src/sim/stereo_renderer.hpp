@@ -96,6 +96,9 @@ class StereoRenderer {
   // depth (padded to a multiple of 4).
   std::vector<std::int32_t> span_u_, span_v_;
   std::vector<float> span_lod_, span_a_, span_b_, span_fp2_, span_z_;
+  // Scan conversion scratch: 1/z (float) of four rows of one surface, row_w_stride_ apart.
+  std::vector<float> row_w_;
+  std::size_t row_w_stride_ = 0;
 };
 
 }  // namespace glmbslam::sim

@@ -48,8 +48,14 @@ class MipTile {
     return c0 + t * (c1 - c0);
   }
 
-  /// out[k] = sample(U[k], V[k], lod[k]) for k < n (four at a time with SSE2).
+  /// out[k] = sample(U[k], V[k], lod[k]) for k < n: eight at a time with AVX2 when the CPU has it (chosen at
+  /// run time), else four at a time with SSE2; every path gives the same bits.
   void sample_span(const std::int32_t* U, const std::int32_t* V, const float* lod, int n, float* out) const;
+  /// The SSE2 (baseline x86-64) path of sample_span(), whatever the CPU (tests compare the paths).
+  void sample_span_baseline(const std::int32_t* U, const std::int32_t* V, const float* lod, int n,
+                            float* out) const;
+  /// True when sample_span() uses AVX2 on this CPU.
+  static bool avx2_enabled();
 
   /// Bilinear sample of mip level `level` at fixed-point level-0 texel coordinates (U, V).
   float bilinear(std::int32_t level, std::int32_t U, std::int32_t V) const {
