@@ -29,6 +29,7 @@ std::uint32_t draw_seed(RandomStream& rng) {
 constexpr std::uint64_t kStationStream = 0;
 constexpr std::uint64_t kTowerStream = 1ULL << 60;
 constexpr std::uint64_t kMoverStream = 1ULL << 61;
+constexpr double kTowerCell = 100.0;  // far tower grid, metres
 
 }  // namespace
 
@@ -80,9 +81,90 @@ ProceduralWorld::ProceduralWorld(const PoseList& trajectory, ProceduralWorldOpti
     stations_.push_back(st);
   }
   for (std::size_t k = 0; k < stations_.size(); ++k) {
-    grid_[cell_key(cell_index(stations_[k].x, kCellSize), cell_index(stations_[k].z, kCellSize))].push_back(
-        static_cast<std::uint32_t>(k));
     if (k % 25 == 0) coarse_stations_.push_back(k);
+  }
+  build_station_grid();
+  build_caches();
+}
+
+void ProceduralWorld::build_station_grid() {
+  // Station cells: a dense array of cells over the stations' bounding box when it is small enough (a plain
+  // index instead of a hash lookup; cells outside the box are empty), else a hash map. Stations are listed
+  // in increasing index within a cell either way, so every query visits them in the same order.
+  std::int64_t i_min = INT64_MAX, i_max = INT64_MIN, j_min = INT64_MAX, j_max = INT64_MIN;
+  for (const Station& st : stations_) {
+    const std::int64_t i = cell_index(st.x, kCellSize), j = cell_index(st.z, kCellSize);
+    i_min = std::min(i_min, i);
+    i_max = std::max(i_max, i);
+    j_min = std::min(j_min, j);
+    j_max = std::max(j_max, j);
+  }
+  const std::int64_t ni = i_max - i_min + 1, nj = j_max - j_min + 1;
+  if (!options_.precompute || ni * nj > kMaxGridCells) {
+    for (std::size_t k = 0; k < stations_.size(); ++k) {
+      grid_[cell_key(cell_index(stations_[k].x, kCellSize), cell_index(stations_[k].z, kCellSize))].push_back(
+          static_cast<std::uint32_t>(k));
+    }
+    return;
+  }
+  dense_ = true;
+  grid_i0_ = i_min;
+  grid_j0_ = j_min;
+  grid_ni_ = ni;
+  grid_nj_ = nj;
+  const auto cells = static_cast<std::size_t>(ni * nj);
+  std::vector<std::size_t> cell_of(stations_.size());
+  cell_start_.assign(cells + 1, 0);
+  for (std::size_t k = 0; k < stations_.size(); ++k) {
+    const std::int64_t i = cell_index(stations_[k].x, kCellSize) - i_min;
+    const std::int64_t j = cell_index(stations_[k].z, kCellSize) - j_min;
+    cell_of[k] = static_cast<std::size_t>(i * nj + j);
+    ++cell_start_[cell_of[k] + 1];
+  }
+  for (std::size_t c = 0; c < cells; ++c) cell_start_[c + 1] += cell_start_[c];
+  cell_stations_.resize(stations_.size());
+  std::vector<std::uint32_t> fill(cell_start_.begin(), cell_start_.end() - 1);
+  for (std::size_t k = 0; k < stations_.size(); ++k) {
+    cell_stations_[fill[cell_of[k]]++] = static_cast<std::uint32_t>(k);
+  }
+}
+
+void ProceduralWorld::build_caches() {
+  // The objects of every station (a pure function of the station) once, instead of once per frame that sees
+  // the station, while their memory stays modest (≈1 kB per station).
+  if (!options_.precompute) return;
+  if (stations_.size() <= kMaxCachedStations) {
+    station_offset_.reserve(stations_.size() + 1);
+    station_offset_.push_back(0);
+    for (std::size_t k = 0; k < stations_.size(); ++k) {
+      append_station_objects(k, station_surfaces_);
+      station_offset_.push_back(station_surfaces_.size());
+    }
+  }
+  // The far tower of every 100 m cell within far_radius of the stations' bounding box (a pure function of
+  // the cell, apart from the distance to the camera, which collect() tests).
+  double x_min = 1e300, x_max = -1e300, z_min = 1e300, z_max = -1e300;
+  for (const Station& st : stations_) {
+    x_min = std::min(x_min, st.x);
+    x_max = std::max(x_max, st.x);
+    z_min = std::min(z_min, st.z);
+    z_max = std::max(z_max, st.z);
+  }
+  const double r = options_.far_radius;
+  const std::int64_t i0 = cell_index(x_min - r, kTowerCell), i1 = cell_index(x_max + r, kTowerCell);
+  const std::int64_t j0 = cell_index(z_min - r, kTowerCell), j1 = cell_index(z_max + r, kTowerCell);
+  if ((i1 - i0 + 1) * (j1 - j0 + 1) > kMaxTowerCells) return;
+  tower_i0_ = i0;
+  tower_j0_ = j0;
+  tower_ni_ = i1 - i0 + 1;
+  tower_nj_ = j1 - j0 + 1;
+  towers_.resize(static_cast<std::size_t>(tower_ni_ * tower_nj_));
+  for (std::int64_t i = i0; i <= i1; ++i) {
+    for (std::int64_t j = j0; j <= j1; ++j) {
+      Tower& t = towers_[static_cast<std::size_t>((i - i0) * tower_nj_ + (j - j0))];
+      t.first = tower_surfaces_.size();
+      t.present = make_tower(i, j, t.x, t.z, tower_surfaces_);
+    }
   }
 }
 
@@ -91,6 +173,24 @@ void ProceduralWorld::for_each_station_near(double x, double z, double radius, F
   const std::int64_t i0 = cell_index(x - radius, kCellSize), i1 = cell_index(x + radius, kCellSize);
   const std::int64_t j0 = cell_index(z - radius, kCellSize), j1 = cell_index(z + radius, kCellSize);
   const double r2 = radius * radius;
+  if (dense_) {
+    // Only the cells inside the stations' box can hold stations; same cell order as below.
+    const std::int64_t a0 = std::max(i0, grid_i0_), a1 = std::min(i1, grid_i0_ + grid_ni_ - 1);
+    const std::int64_t b0 = std::max(j0, grid_j0_), b1 = std::min(j1, grid_j0_ + grid_nj_ - 1);
+    for (std::int64_t i = a0; i <= a1; ++i) {
+      for (std::int64_t j = b0; j <= b1; ++j) {
+        const auto c = static_cast<std::size_t>((i - grid_i0_) * grid_nj_ + (j - grid_j0_));
+        for (std::uint32_t q = cell_start_[c]; q < cell_start_[c + 1]; ++q) {
+          const std::uint32_t k = cell_stations_[q];
+          const Station& st = stations_[k];
+          const double dx = st.x - x, dz = st.z - z;
+          const double d2 = dx * dx + dz * dz;
+          if (d2 <= r2) f(static_cast<std::size_t>(k), d2);
+        }
+      }
+    }
+    return;
+  }
   for (std::int64_t i = i0; i <= i1; ++i) {
     for (std::int64_t j = j0; j <= j1; ++j) {
       const auto it = grid_.find(cell_key(i, j));
@@ -248,32 +348,52 @@ void ProceduralWorld::append_station_objects(std::size_t k, SurfaceList& out) co
   }
 }
 
-void ProceduralWorld::append_far_towers(const Eigen::Vector3d& camera, SurfaceList& out) const {
-  constexpr double kTowerCell = 100.0;
+bool ProceduralWorld::make_tower(std::int64_t i, std::int64_t j, double& x, double& z,
+                                 SurfaceList& out) const {
   constexpr double kClearance = 60.0;
+  RandomStream rng(options_.seed, kTowerStream + cell_key(i, j) % (1ULL << 59));
+  if (rng.uniform() > 0.5) return false;
+  x = (static_cast<double>(i) + rng.uniform(0.1, 0.9)) * kTowerCell;
+  z = (static_cast<double>(j) + rng.uniform(0.1, 0.9)) * kTowerCell;
+  const double size = rng.uniform(12.0, 35.0);
+  const double height = rng.uniform(20.0, 80.0);
+  const double yaw = rng.uniform(0.0, kPi);
+  const float albedo = static_cast<float>(rng.uniform(0.3, 0.65));
+  const float cw = static_cast<float>(rng.uniform(2.0, 4.0));
+  const float ch = static_cast<float>(rng.uniform(3.0, 4.0));
+  const std::uint32_t tex_seed = draw_seed(rng);
+  bool near_path = false;
+  const double tx = x, tz = z;
+  for_each_station_near(tx, tz, kClearance + 0.71 * size, [&](std::size_t, double) { near_path = true; });
+  if (near_path) return false;
+  const double base_y = ground_height(x, z) + 5.0;
+  append_box(Eigen::Vector3d(x, base_y, z), Eigen::Vector3d(std::sin(yaw), 0.0, std::cos(yaw)), kUp, size,
+             size, height + 5.0, TextureKind::kFacade, tex_seed, albedo, 0.35f, cw, ch, out);
+  return true;
+}
+
+void ProceduralWorld::append_far_towers(const Eigen::Vector3d& camera, SurfaceList& out) const {
   const double r = options_.far_radius;
   const std::int64_t i0 = cell_index(camera.x() - r, kTowerCell), i1 = cell_index(camera.x() + r, kTowerCell);
   const std::int64_t j0 = cell_index(camera.z() - r, kTowerCell), j1 = cell_index(camera.z() + r, kTowerCell);
   for (std::int64_t i = i0; i <= i1; ++i) {
     for (std::int64_t j = j0; j <= j1; ++j) {
-      RandomStream rng(options_.seed, kTowerStream + cell_key(i, j) % (1ULL << 59));
-      if (rng.uniform() > 0.5) continue;
-      const double x = (static_cast<double>(i) + rng.uniform(0.1, 0.9)) * kTowerCell;
-      const double z = (static_cast<double>(j) + rng.uniform(0.1, 0.9)) * kTowerCell;
-      const double size = rng.uniform(12.0, 35.0);
-      const double height = rng.uniform(20.0, 80.0);
-      const double yaw = rng.uniform(0.0, kPi);
-      const float albedo = static_cast<float>(rng.uniform(0.3, 0.65));
-      const float cw = static_cast<float>(rng.uniform(2.0, 4.0));
-      const float ch = static_cast<float>(rng.uniform(3.0, 4.0));
-      const std::uint32_t tex_seed = draw_seed(rng);
-      if (std::hypot(x - camera.x(), z - camera.z()) > r) continue;
-      bool near_path = false;
-      for_each_station_near(x, z, kClearance + 0.71 * size, [&](std::size_t, double) { near_path = true; });
-      if (near_path) continue;
-      const double base_y = ground_height(x, z) + 5.0;
-      append_box(Eigen::Vector3d(x, base_y, z), Eigen::Vector3d(std::sin(yaw), 0.0, std::cos(yaw)), kUp, size,
-                 size, height + 5.0, TextureKind::kFacade, tex_seed, albedo, 0.35f, cw, ch, out);
+      const bool cached =
+          i >= tower_i0_ && i < tower_i0_ + tower_ni_ && j >= tower_j0_ && j < tower_j0_ + tower_nj_;
+      if (cached) {
+        const std::size_t c = static_cast<std::size_t>((i - tower_i0_) * tower_nj_ + (j - tower_j0_));
+        const Tower& t = towers_[c];
+        if (!t.present || std::hypot(t.x - camera.x(), t.z - camera.z()) > r) continue;
+        const std::size_t last = c + 1 < towers_.size() ? towers_[c + 1].first : tower_surfaces_.size();
+        out.insert(out.end(), tower_surfaces_.begin() + static_cast<std::ptrdiff_t>(t.first),
+                   tower_surfaces_.begin() + static_cast<std::ptrdiff_t>(last));
+        continue;
+      }
+      double x = 0.0, z = 0.0;
+      const std::size_t before = out.size();
+      if (make_tower(i, j, x, z, out) && std::hypot(x - camera.x(), z - camera.z()) > r) {
+        out.resize(before);
+      }
     }
   }
 }
@@ -382,7 +502,14 @@ void ProceduralWorld::collect(const Eigen::Vector3d& camera_position, double tim
   for_each_station_near(camera_position.x(), camera_position.z(), options_.object_radius,
                         [&](std::size_t k, double) { near.push_back(k); });
   std::sort(near.begin(), near.end());  // deterministic surface order
-  for (std::size_t k : near) append_station_objects(k, out);
+  for (std::size_t k : near) {
+    if (station_offset_.empty()) {
+      append_station_objects(k, out);
+    } else {
+      out.insert(out.end(), station_surfaces_.begin() + static_cast<std::ptrdiff_t>(station_offset_[k]),
+                 station_surfaces_.begin() + static_cast<std::ptrdiff_t>(station_offset_[k + 1]));
+    }
+  }
   append_far_towers(camera_position, out);
   append_movers(time, out);
 }

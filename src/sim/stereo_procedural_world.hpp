@@ -15,6 +15,10 @@
 //   the same);
 // - far towers on a 100 m grid, at least 60 m from the path (little parallax);
 // - optional movers: boxes driving along the road next to the camera's lane (time dependent).
+// For speed the constructor also evaluates, once, the objects of every station and the far tower of every
+// 100 m cell near the path (pure functions of the station or cell; about 1 kB per station of path), when the
+// path is not longer than kMaxCachedStations stations or its box not larger than kMaxTowerCells tower cells;
+// beyond that they are generated per frame as above. Either way the surfaces and their order are the same.
 #include <cstdint>
 #include <unordered_map>
 #include <vector>
@@ -32,6 +36,7 @@ struct ProceduralWorldOptions {
   double object_radius = 120.0;  ///< stations farther than this from the camera contribute no objects
   double ground_radius = 200.0;  ///< ground tiles drawn within this square half-size
   double far_radius = 700.0;     ///< far towers drawn within this distance
+  bool precompute = true;        ///< false: no station grid array or object caches (same surfaces, slower)
 };
 
 /// A resampled point of the trajectory.
@@ -56,11 +61,23 @@ class ProceduralWorld : public StereoWorld {
   const std::vector<Station>& stations() const { return stations_; }
   const ProceduralWorldOptions& options() const { return options_; }
 
-  static constexpr double kStationSpacing = 2.0;  ///< metres
-  static constexpr double kCellSize = 16.0;       ///< station grid and ground tile size, metres
-  static constexpr double kCorridor = 3.0;        ///< free half-width around the path, metres
+  static constexpr double kStationSpacing = 2.0;            ///< metres
+  static constexpr double kCellSize = 16.0;                 ///< station grid and ground tile size, metres
+  static constexpr double kCorridor = 3.0;                  ///< free half-width around the path, metres
+  static constexpr std::size_t kMaxCachedStations = 50000;  ///< longer paths: station objects per frame
+  static constexpr std::int64_t kMaxTowerCells = 1 << 18;   ///< larger boxes: far towers per frame
+  static constexpr std::int64_t kMaxGridCells = 1 << 22;    ///< larger boxes: station cells in a hash map
 
  private:
+  struct Tower {
+    bool present = false;     // a tower stands in the cell (and clear of the path)
+    double x = 0.0, z = 0.0;  // its centre
+    std::size_t first = 0;    // its surfaces: tower_surfaces_[first, next cell's first)
+  };
+  void build_station_grid();
+  void build_caches();
+  /// The far tower of 100 m cell (i, j): appends its faces and sets its centre; false if there is none.
+  bool make_tower(std::int64_t i, std::int64_t j, double& x, double& z, SurfaceList& out) const;
   template <typename F>
   void for_each_station_near(double x, double z, double radius, F&& f) const;
   bool is_revisit(std::size_t k) const;
@@ -76,7 +93,19 @@ class ProceduralWorld : public StereoWorld {
   std::vector<Station> stations_;
   std::vector<double> frame_arc_;             // arc length of every trajectory pose
   std::vector<std::size_t> coarse_stations_;  // every 25th station (far-field ground height)
-  std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> grid_;
+  std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> grid_;  // station cells (large boxes)
+  // Station cells as a dense array over the stations' box (dense_): stations of cell c are
+  // cell_stations_[cell_start_[c], cell_start_[c + 1]), c = (i − grid_i0_)·grid_nj_ + (j − grid_j0_).
+  bool dense_ = false;
+  std::int64_t grid_i0_ = 0, grid_j0_ = 0, grid_ni_ = 0, grid_nj_ = 0;
+  std::vector<std::uint32_t> cell_start_, cell_stations_;
+  // Station objects: station_surfaces_[station_offset_[k], station_offset_[k + 1]) (empty: not cached).
+  SurfaceList station_surfaces_;
+  std::vector<std::size_t> station_offset_;
+  // Far towers per 100 m cell over [tower_i0_, +tower_ni_) × [tower_j0_, +tower_nj_).
+  std::int64_t tower_i0_ = 0, tower_j0_ = 0, tower_ni_ = 0, tower_nj_ = 0;
+  std::vector<Tower> towers_;
+  SurfaceList tower_surfaces_;
 };
 
 }  // namespace glmbslam::sim

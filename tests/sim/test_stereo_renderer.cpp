@@ -252,6 +252,47 @@ TEST(StereoRenderer, CameraStaysAboveTheGroundAndRoadIsFree) {
   }
 }
 
+TEST(ProceduralWorld, PrecomputedCachesGiveTheSameSurfacesAsPerFrameGeneration) {
+  // The station grid array and the station/tower caches only change how the surfaces are found: the list
+  // (every corner, axis, texture parameter, and the order) is the same as generating everything per frame,
+  // also away from the path (cells outside the cached boxes) and with movers.
+  const PoseList trajectory = default_trajectory();
+  ProceduralWorldOptions cached_options;
+  cached_options.movers = 3;
+  ProceduralWorldOptions plain_options = cached_options;
+  plain_options.precompute = false;
+  const ProceduralWorld cached(trajectory, cached_options);
+  const ProceduralWorld plain(trajectory, plain_options);
+  SurfaceList a, b;
+  std::vector<Eigen::Vector3d> positions;
+  for (std::size_t i = 0; i < trajectory.size(); i += 61) positions.push_back(trajectory[i].translation());
+  positions.emplace_back(2500.0, -1.0, -1800.0);  // far outside the path's box
+  std::size_t total = 0;
+  for (std::size_t q = 0; q < positions.size(); ++q) {
+    const double time = 0.1 * static_cast<double>(q);
+    cached.collect(positions[q], time, a);
+    plain.collect(positions[q], time, b);
+    ASSERT_EQ(a.size(), b.size()) << q;
+    total += a.size();
+    for (std::size_t k = 0; k < a.size(); ++k) {
+      for (std::size_t c = 0; c < 4; ++c) ASSERT_EQ(a[k].corners[c], b[k].corners[c]) << q << " " << k;
+      ASSERT_EQ(a[k].corner_count, b[k].corner_count);
+      ASSERT_EQ(a[k].origin, b[k].origin);
+      ASSERT_EQ(a[k].axis_u, b[k].axis_u);
+      ASSERT_EQ(a[k].axis_v, b[k].axis_v);
+      ASSERT_EQ(a[k].normal, b[k].normal);
+      ASSERT_EQ(a[k].two_sided, b[k].two_sided);
+      ASSERT_EQ(a[k].kind, b[k].kind);
+      ASSERT_EQ(a[k].seed, b[k].seed);
+      ASSERT_EQ(a[k].albedo, b[k].albedo);
+      ASSERT_EQ(a[k].contrast, b[k].contrast);
+      ASSERT_EQ(a[k].param0, b[k].param0);
+      ASSERT_EQ(a[k].param1, b[k].param1);
+    }
+  }
+  EXPECT_GT(total, 1000u);  // the comparison covered real scenes
+}
+
 TEST(StereoRenderer, SameSeedSameImagesDifferentSeedDifferentImages) {
   const PoseList trajectory = default_trajectory();
   const StereoCalibration calib = named_kitti_calibration("kitti00-02");
