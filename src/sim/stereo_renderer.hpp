@@ -2,9 +2,10 @@
 // Rasteriser of the synthetic stereo world: every visible surface is clipped to the near plane, projected
 // and scan-converted with a z-buffer (1/z is affine in pixel coordinates on a plane, so depth and texture
 // coordinates are exact per pixel); a deferred pass then evaluates the texture once per pixel, row by row in
-// spans of one surface. Pixel centres are at integer coordinates: a camera-frame point X appears at u =
-// fx·X/Z + cx, v = fy·Y/Z + cy. The right camera sits at +baseline along the left camera's x axis with the
-// same intrinsics (rectified).
+// spans of one surface. Both passes run band by band (kBandRows rows) so the band's z-buffer stays in the
+// cache; the result does not depend on the band size. Pixel centres are at integer coordinates: a
+// camera-frame point X appears at u = fx·X/Z + cx, v = fy·Y/Z + cy. The right camera sits at +baseline along
+// the left camera's x axis with the same intrinsics (rectified).
 #include <array>
 #include <cstdint>
 #include <vector>
