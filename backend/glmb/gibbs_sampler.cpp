@@ -8,6 +8,9 @@
 
 namespace glmbslam::backend {
 namespace {
+/// Chains with at least this many sweeps keep per-row counts of taken columns (see gibbs_sample).
+constexpr int kCountedSweeps = 4;
+
 /// xoshiro256+ seeded from the caller's stream: a fast generator for the many categorical draws of one call
 /// (deterministic given the stream's state).
 class FastUniform {
@@ -68,6 +71,9 @@ void AssociationTable::end_row() {
     if (column_[e] == kMissed && eta_[e] > 0.0) has_missed = true;
   }
   start_.push_back(!has_missed && e_end > b ? column_[best] : kMissed);
+  double total = 0.0;
+  for (int e = b; e < e_end; ++e) total += eta_[e];
+  total_.push_back(total);
 }
 
 int gibbs_sample(const AssociationTable& table, int sweeps, RandomStream& rng, GibbsWorkspace& ws,
@@ -97,6 +103,45 @@ int gibbs_sample(const AssociationTable& table, const int* row_ids, int num_rows
   int appended = 1;
   const int* const column = table.column_data();
   const double* const eta = table.eta_data();
+  // locked[i] = the number of row i's measurement columns owned by another row. While it is 0 (the usual
+  // case) the conditional of row i is its whole row: the normaliser is the precomputed row total and no
+  // entry needs the owner test. The counts change only when a row changes its measurement. Setting them up
+  // costs about one sweep, so short chains keep every row on the owner test (locked[i] = −1 forces it).
+  ws.locked.assign(P, -1);
+  int* const locked = ws.locked.data();
+  const bool counts = sweeps >= kCountedSweeps;
+  if (counts) {
+    ws.column_start.assign(static_cast<std::size_t>(M) + 2, 0);
+    for (int i = 0; i < P; ++i) {
+      const int r = row_ids[i];
+      for (int e = table.row_begin(r); e < table.row_end(r); ++e)
+        if (column[e] > 0) ++ws.column_start[column[e] + 1];
+    }
+    for (int c = 1; c <= M + 1; ++c) ws.column_start[c] += ws.column_start[c - 1];
+    ws.column_rows.resize(ws.column_start[M + 1]);
+    {
+      int* fill = ws.owner.data() + 1;  // owner is reused as a fill cursor per column, then reset below
+      for (int c = 1; c <= M; ++c) fill[c] = ws.column_start[c];
+      for (int i = 0; i < P; ++i) {
+        const int r = row_ids[i];
+        for (int e = table.row_begin(r); e < table.row_end(r); ++e)
+          if (column[e] > 0) ws.column_rows[fill[column[e]]++] = i;
+      }
+      for (int c = 1; c <= M; ++c) fill[c] = -1;
+      for (int i = 0; i < P; ++i)
+        if (current[i] > 0) owner[current[i]] = i;
+    }
+    std::fill(locked, locked + P, 0);
+  }
+  const int* const column_start = ws.column_start.data();
+  const int* const column_rows = ws.column_rows.data();
+  auto take = [&](int c, int i, int delta) {  // row i takes (+1) or releases (−1) column c > 0
+    if (!counts) return;
+    for (int k = column_start[c]; k < column_start[c + 1]; ++k)
+      if (column_rows[k] != i) locked[column_rows[k]] += delta;
+  };
+  for (int i = 0; i < P; ++i)
+    if (current[i] > 0) take(current[i], i, 1);
   FastUniform uniform(rng);  // one draw from rng per call, whatever the table
   for (int s = 0; s < sweeps; ++s) {
     bool changed = false;
@@ -104,25 +149,43 @@ int gibbs_sample(const AssociationTable& table, const int* row_ids, int num_rows
       const int r = row_ids[i];
       const int b = table.row_begin(r), e_end = table.row_end(r);
       if (e_end - b <= 1) continue;  // a single possible value
-      double total = 0.0;
-      for (int e = b; e < e_end; ++e) {
-        const int o = owner[column[e]];
-        if (!(o >= 0 && o != i)) total += eta[e];
-      }
-      if (!(total > 0.0)) continue;  // no valid choice: keep the current value
-      double u = uniform() * total;
       int chosen = current[i];
-      for (int e = b; e < e_end; ++e) {
-        const int o = owner[column[e]];
-        if ((o >= 0 && o != i) || eta[e] <= 0.0) continue;
-        chosen = column[e];
-        u -= eta[e];
-        if (u < 0.0) break;
+      if (locked[i] == 0) {
+        const double total = table.total(r);
+        if (!(total > 0.0)) continue;  // no valid choice: keep the current value
+        double u = uniform() * total;
+        for (int e = b; e < e_end; ++e) {
+          if (eta[e] <= 0.0) continue;
+          chosen = column[e];
+          u -= eta[e];
+          if (u < 0.0) break;
+        }
+      } else {
+        double total = 0.0;
+        for (int e = b; e < e_end; ++e) {
+          const int o = owner[column[e]];
+          if (!(o >= 0 && o != i)) total += eta[e];
+        }
+        if (!(total > 0.0)) continue;
+        double u = uniform() * total;
+        for (int e = b; e < e_end; ++e) {
+          const int o = owner[column[e]];
+          if ((o >= 0 && o != i) || eta[e] <= 0.0) continue;
+          chosen = column[e];
+          u -= eta[e];
+          if (u < 0.0) break;
+        }
       }
       if (chosen != current[i]) {
-        if (current[i] > 0) owner[current[i]] = -1;
+        if (current[i] > 0) {
+          owner[current[i]] = -1;
+          take(current[i], i, -1);
+        }
         current[i] = chosen;
-        if (chosen > 0) owner[chosen] = i;
+        if (chosen > 0) {
+          owner[chosen] = i;
+          take(chosen, i, 1);
+        }
         changed = true;
       }
     }

@@ -30,6 +30,7 @@ class AssociationTable {
     log_eta_.clear();
     eta_.clear();
     start_.clear();
+    total_.clear();
   }
   /// Adds entry (column, log η) to the current (last) row. Entries with log η = −∞ may be skipped by callers.
   void add(int column, double log_eta) {
@@ -51,6 +52,8 @@ class AssociationTable {
   /// The sampler's initial value for row i: kMissed if the row has a non-zero missed entry (or no entry),
   /// otherwise the column of its best entry.
   int start(int i) const { return start_[i]; }
+  /// Σ_e η(e) over row i (in entry order): the sampler's normaliser when none of its columns is taken.
+  double total(int i) const { return total_[i]; }
   const int* column_data() const { return column_.data(); }
   const double* eta_data() const { return eta_.data(); }
 
@@ -64,6 +67,7 @@ class AssociationTable {
   std::vector<double> log_eta_;
   std::vector<double> eta_;
   std::vector<int> start_;
+  std::vector<double> total_;
 };
 
 /// Reusable buffers so that repeated sampling does not allocate.
@@ -71,6 +75,8 @@ struct GibbsWorkspace {
   std::vector<int> owner;    ///< per column c (at c + 1): the row using measurement c, or −1
   std::vector<int> current;  ///< current γ
   std::vector<int> rows;     ///< row ids (identity) for the whole-table overload
+  std::vector<int> locked;   ///< per row: its measurement columns taken by another row
+  std::vector<int> column_start, column_rows;  ///< per measurement column: the rows with an entry for it
 };
 
 /// Runs `sweeps` Gibbs sweeps starting from "all missed" (rows without a missed entry start at their best

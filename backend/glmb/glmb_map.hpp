@@ -106,16 +106,21 @@ struct GlmbMap {
 
   /// Marks the tracks that may be in the sensor's view at `x` (p_D > 0 or p_S < 1): active[t] = true.
   /// Tracks farther than query_radius + margin from the sensor are rejected with one distance test.
+  /// With `pd`, also stores p_D(tracks[t].mean | x) in (*pd)[t] for every active track t.
   template <class Pose>
-  void find_active(const Meas& model, const Pose& x, double margin, std::vector<char>& active) const {
+  void find_active(const Meas& model, const Pose& x, double margin, std::vector<char>& active,
+                   std::vector<double>* pd = nullptr) const {
     active.assign(tracks.size(), 0);
+    if (pd != nullptr) pd->resize(tracks.size());
     const auto p = Meas::position(x);
     const double r = model.query_radius() + margin;
     const double r2 = r * r;
     for (std::size_t t = 0; t < tracks.size(); ++t) {
       if ((Meas::landmark_position(tracks[t].mean) - p).squaredNorm() > r2) continue;
       const auto& m = tracks[t].mean;
-      active[t] = model.detection_probability(x, m) > 0.0 || model.survival_probability(x, m) < 1.0;
+      const double p_d = model.detection_probability(x, m);
+      active[t] = p_d > 0.0 || model.survival_probability(x, m) < 1.0;
+      if (pd != nullptr) (*pd)[t] = p_d;
     }
   }
 };

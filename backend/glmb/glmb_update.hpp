@@ -30,6 +30,7 @@
 #include "backend/glmb/gibbs_sampler.hpp"
 #include "backend/glmb/glmb_config.hpp"
 #include "backend/glmb/glmb_map.hpp"
+#include "backend/glmb/llt_solve.hpp"
 #include "core/error.hpp"
 #include "core/gaussian.hpp"
 #include "core/log_math.hpp"
@@ -55,7 +56,7 @@ struct Innovation {
     S_llt.compute(S);
     valid = S_llt.info() == Eigen::Success;
     if (!valid) return;
-    K = S_llt.solve(H_m * P).transpose();
+    K = llt_solve(S_llt, H_m * P).transpose();
     const typename Meas::LandmarkCovariance I_KH = Meas::LandmarkCovariance::Identity() - K * H_m;
     P_updated = I_KH * P * I_KH.transpose() + K * model.noise() * K.transpose();
     symmetrize(P_updated);
@@ -119,7 +120,7 @@ class GlmbUpdater {
     const double gate = config_.gate_threshold;
 
     // 1. active tracks
-    prior.find_active(model_, x, config_.fov_margin, ws.active);
+    prior.find_active(model_, x, config_.fov_margin, ws.active, &ws.track_pd);
     // 2. row sources: active tracks (source index = track index order) and births; cached EKF pairs
     ws.source_of_track.assign(n_old, -1);
     ws.extra.clear();
@@ -134,9 +135,8 @@ class GlmbUpdater {
     using Appearance = typename AppearanceOf<Meas>::Type;
     auto add_source = [&](const Label& label, const typename Meas::Landmark& mean,
                           const typename Meas::LandmarkCovariance& P, const Appearance& appearance,
-                          double log_exist, double log_not_exist, int missed_id, bool is_birth) {
+                          double log_exist, double log_not_exist, int missed_id, bool is_birth, double pd) {
       ws.source_begin.push_back(static_cast<int>(ws.entry_column.size()));
-      const double pd = model_.detection_probability(x, mean);
       if (log_not_exist > kLogZero) push_entry(ws, AssociationTable::kDead, log_not_exist, -1);
       if (pd < 1.0) push_entry(ws, AssociationTable::kMissed, log_exist + std::log1p(-pd), missed_id);
       if (pd <= 0.0) return;
@@ -163,7 +163,7 @@ class GlmbUpdater {
       const double ps = model_.survival_probability(x, tr.mean);
       ws.source_of_track[t] = num_active++;
       add_source(tr.label, tr.mean, tr.cov, tr.appearance, std::log(ps),
-                 ps < 1.0 ? std::log1p(-ps) : kLogZero, t, false);
+                 ps < 1.0 ? std::log1p(-ps) : kLogZero, t, false, ws.track_pd[t]);
     }
     // birth prior tracks get ids after the pair tracks created so far; give them their own slots first
     ws.birth_prior_id.resize(n_birth);
@@ -185,7 +185,8 @@ class GlmbUpdater {
       const double log_r = bc.log_existence;
       const double log_1mr = log_r < 0.0 ? std::log(-std::expm1(log_r)) : kLogZero;
       const int first = static_cast<int>(ws.entry_column.size());
-      add_source(bc.label, bc.mean, bc.cov, bc.appearance, log_r, log_1mr, ws.birth_prior_id[b], true);
+      add_source(bc.label, bc.mean, bc.cov, bc.appearance, log_r, log_1mr, ws.birth_prior_id[b], true,
+                 model_.detection_probability(x, bc.mean));
       bool detectable = false;
       for (int e = first; e < static_cast<int>(ws.entry_column.size()); ++e)
         detectable |= ws.entry_column[e] > 0;
@@ -486,7 +487,7 @@ class GlmbUpdater {
     std::vector<char> active;
     std::vector<int> source_of_track, source_begin, entry_column, entry_id, birth_prior_id, row_source,
         birth_rows;
-    std::vector<double> entry_log_eta;
+    std::vector<double> entry_log_eta, track_pd;
     std::vector<char> explained, birth_in_sampler;
     std::vector<TrackType, Eigen::aligned_allocator<TrackType>> extra;
     AssociationTable sources;  ///< one row per source (active track or birth)

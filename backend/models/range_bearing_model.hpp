@@ -106,6 +106,8 @@ class RangeBearingModel {
     return in_field_of_view(x, m) ? config_.p_detect_inside : config_.p_detect_outside;
   }
   double survival_probability(const Pose& x, const Landmark& m) const {
+    if (config_.p_survive_inside == config_.p_survive_outside)
+      return config_.p_survive_inside;  // no FOV test
     return in_field_of_view(x, m) ? config_.p_survive_inside : config_.p_survive_outside;
   }
   double log_clutter_intensity(const Measurement& /*z*/) const { return log_kappa_; }

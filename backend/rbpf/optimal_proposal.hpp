@@ -20,6 +20,7 @@
 
 #include "backend/glmb/gibbs_sampler.hpp"
 #include "backend/glmb/glmb_map.hpp"
+#include "backend/glmb/llt_solve.hpp"
 #include "backend/rbpf/rbpf_config.hpp"
 #include "core/gaussian.hpp"
 #include "core/log_math.hpp"
@@ -65,7 +66,7 @@ class OptimalProposal {
     // (the position part of the tangent comes first: (x, y) for 2D poses, ρ for SE(3))
     constexpr int kPos = decltype(Meas::position(std::declval<State>()))::RowsAtCompileTime;
     const double pos_sigma = std::sqrt(std::max(0.0, P_pred.template topLeftCorner<kPos, kPos>().trace()));
-    map.find_active(model_, x_pred, config_.glmb.fov_margin + 3.0 * pos_sigma, ws.active);
+    map.find_active(model_, x_pred, config_.glmb.fov_margin + 3.0 * pos_sigma, ws.active, &ws.track_pd);
     // rows per active track (no births)
     ws.source_of_track.assign(map.tracks.size(), -1);
     ws.source_begin.clear();
@@ -78,7 +79,7 @@ class OptimalProposal {
       ws.source_of_track[t] = num_active++;
       ws.source_begin.push_back(static_cast<int>(ws.entry_column.size()));
       const double ps = model_.survival_probability(x_pred, tr.mean);
-      const double pd = model_.detection_probability(x_pred, tr.mean);
+      const double pd = ws.track_pd[t];  // p_D(tr.mean | x̄), from find_active
       if (ps < 1.0) push(ws, AssociationTable::kDead, std::log1p(-ps));
       if (pd < 1.0) push(ws, AssociationTable::kMissed, std::log(ps) + std::log1p(-pd));
       if (pd <= 0.0) continue;
@@ -101,6 +102,13 @@ class OptimalProposal {
       }
     }
     ws.source_begin.push_back(static_cast<int>(ws.entry_column.size()));
+    // the sampler's rows, prepared once and shared by the chosen map hypotheses
+    ws.sources.reset(M);
+    for (int s = 0; s < num_active; ++s) {
+      for (int e = ws.source_begin[s]; e < ws.source_begin[s + 1]; ++e)
+        ws.sources.add(ws.entry_column[e], ws.entry_log_eta[e]);
+      ws.sources.end_row();
+    }
 
     // association hypotheses per chosen map hypothesis
     ws.cand_log_w.clear();
@@ -111,23 +119,22 @@ class OptimalProposal {
       const Hypothesis& h = map.hypotheses[hi];
       if (hi > 0 && std::exp(h.log_weight) < config_.proposal_min_weight) break;
       ws.row_track.clear();
-      ws.table.reset(M);
+      ws.row_source.clear();
       for (std::uint32_t t : h.tracks) {
         const int s = ws.source_of_track[t];
         if (s < 0) continue;
         ws.row_track.push_back(static_cast<int>(t));
-        for (int e = ws.source_begin[s]; e < ws.source_begin[s + 1]; ++e)
-          ws.table.add(ws.entry_column[e], ws.entry_log_eta[e]);
-        ws.table.end_row();
+        ws.row_source.push_back(s);
       }
-      const int rows = ws.table.rows();
+      const int rows = static_cast<int>(ws.row_source.size());
       ws.samples.clear();
       const int count =
-          gibbs_sample(ws.table, rows == 0 ? 0 : config_.proposal_gibbs_samples, rng, ws.gibbs, ws.samples);
+          gibbs_sample(ws.sources, ws.row_source.data(), rows, rows == 0 ? 0 : config_.proposal_gibbs_samples,
+                       rng, ws.gibbs, ws.samples, true);
       const int distinct = unique_solutions(ws.samples, rows, count);
       for (int c = 0; c < distinct; ++c) {
         const int* gamma = ws.samples.data() + static_cast<std::size_t>(c) * rows;
-        const double lw = ws.table.log_weight(gamma);
+        const double lw = log_weight(ws, gamma, rows);
         if (lw == kLogZero) continue;
         ws.cand_log_w.push_back(h.log_weight + lw);
         ws.cand_begin.push_back(static_cast<int>(ws.cand_pairs.size()));
@@ -199,12 +206,26 @@ class OptimalProposal {
  private:
   struct Workspace {
     std::vector<char> active;
-    std::vector<int> source_of_track, source_begin, entry_column, row_track, samples, cand_begin, order;
-    std::vector<double> entry_log_eta, cand_log_w;
+    std::vector<int> source_of_track, source_begin, entry_column, row_track, row_source, samples, cand_begin,
+        order;
+    std::vector<double> entry_log_eta, cand_log_w, track_pd;
     std::vector<std::pair<int, int>> cand_pairs;
-    AssociationTable table;
+    AssociationTable sources;  ///< one row per active track
     GibbsWorkspace gibbs;
   };
+  /// log Π_i η_i(γ_i) over the rows ws.row_source (−∞ if some γ_i has no entry).
+  static double log_weight(const Workspace& ws, const int* gamma, int rows) {
+    double s = 0.0;
+    for (int i = 0; i < rows; ++i) {
+      const int r = ws.row_source[i];
+      int e = ws.sources.row_begin(r);
+      const int e_end = ws.sources.row_end(r);
+      while (e < e_end && ws.sources.column(e) != gamma[i]) ++e;
+      if (e == e_end) return kLogZero;
+      s += ws.sources.log_eta(e);
+    }
+    return s;
+  }
   static Workspace& workspace() {
     static thread_local Workspace ws;
     return ws;
@@ -253,7 +274,7 @@ class OptimalProposal {
         const typename Meas::MeasurementCovariance S = A * Sig * A.transpose() + Omega;
         const Eigen::LLT<typename Meas::MeasurementCovariance> llt(S);
         if (llt.info() != Eigen::Success) continue;
-        const Eigen::Matrix<double, kDim, Meas::kMeasDim> K = llt.solve(A * Sig).transpose();
+        const Eigen::Matrix<double, kDim, Meas::kMeasDim> K = llt_solve(llt, A * Sig).transpose();
         mu = Motion::retract(mu, K * nu);
         Sig -= K * S * K.transpose();
         symmetrize(Sig);
