@@ -229,7 +229,7 @@ int unique_solutions(std::vector<int>& samples, int row_count, int count) {
     out.insert(out.end(), row(keyed[n].second), row(keyed[n].second) + row_count);
     ++distinct;
   }
-  samples.assign(out.begin(), out.end());
+  samples.swap(out);  // (out keeps the old buffer for the next call)
   return distinct;
 }
 

@@ -241,14 +241,14 @@ class GlmbUpdater {
       const int* const source_of_track = ws.source_of_track.data();
       const std::uint64_t* const id_hash = ws.id_hash.data();
       std::uint64_t hsh = 0;
-      for (const std::uint32_t t : h.tracks) {
+      for (const std::uint32_t t : h.tracks) {  // branch-free: both outputs written, one cursor advances
         const int s = source_of_track[t];
-        if (s >= 0) {
-          *row_out++ = s;
-        } else {
-          *inactive_out++ = t;  // out of view: copied through to every child
-          hsh += id_hash[t];
-        }
+        const bool in_view = s >= 0;
+        *row_out = s;
+        row_out += in_view;
+        *inactive_out = t;  // out of view: copied through to every child
+        inactive_out += !in_view;
+        hsh += id_hash[t] & (in_view ? 0ULL : ~0ULL);
       }
       const std::size_t n_inactive =
           static_cast<std::size_t>(inactive_out - ws.parent_inactive.data()) - inactive_first;
