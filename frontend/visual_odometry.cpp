@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
 
 #include <spdlog/spdlog.h>
 #include <opencv2/calib3d.hpp>
@@ -237,7 +238,9 @@ VoEstimate StereoVisualOdometry::track(const StereoFrameFeatures& frame) {
 
   // Two-view stereo bundle adjustment.
   std::vector<TrackedPoint> tracked;
+  std::vector<std::pair<int, int>> tracked_pair;  // (previous measurement, current measurement or −1)
   tracked.reserve(matches.size());
+  tracked_pair.reserve(matches.size());
   for (std::size_t i = 0; i < matches.size(); ++i) {
     if (!use[i]) continue;
     const StereoMeasurement& r = ref_.measurements[static_cast<std::size_t>(matches[i].ref)];
@@ -261,6 +264,7 @@ VoEstimate StereoVisualOdometry::track(const StereoFrameFeatures& frame) {
       t.cur_stereo = false;
     }
     tracked.push_back(t);
+    tracked_pair.emplace_back(matches[i].ref, mi);
   }
   const PoseRefinementOptions opt = pose_refinement_options(config_);
   const PoseRefinementResult res = refine_stereo_pose(camera_, tracked, T_ref_cur, opt);
@@ -273,17 +277,50 @@ VoEstimate StereoVisualOdometry::track(const StereoFrameFeatures& frame) {
     return finish(e);
   }
 
+  last_tracked_ = tracked;
+  last_tracked_current_.resize(tracked.size());
+  for (std::size_t i = 0; i < tracked.size(); ++i) last_tracked_current_[i] = tracked_pair[i].second;
+  last_T_ref_cur_ = res.T_ref_cur;
+  last_T_ref_prev_ = T_ref_prev_;
+
   VoEstimate e;
   e.status = VoStatus::kTracked;
   e.relative_pose = T_ref_prev_.inverse() * res.T_ref_cur;
   e.covariance = res.covariance;
   e.matches = static_cast<int>(matches.size());
   e.inliers = res.inliers;
+  e.previous_measurement.assign(frame.measurements.size(), -1);
+  for (std::size_t i = 0; i < tracked.size(); ++i) {
+    if (res.inlier[i] && tracked_pair[i].second >= 0)
+      e.previous_measurement[static_cast<std::size_t>(tracked_pair[i].second)] = tracked_pair[i].first;
+  }
   velocity_ = e.relative_pose;
   velocity_known_ = true;
   last_covariance_ = e.covariance;
   set_reference(frame);
   return finish(e);
+}
+
+VoEstimate StereoVisualOdometry::excluding(const VoEstimate& full, const std::vector<char>& excluded) const {
+  if (full.status != VoStatus::kTracked || last_tracked_.empty()) return full;
+  std::vector<TrackedPoint> kept;
+  kept.reserve(last_tracked_.size());
+  for (std::size_t i = 0; i < last_tracked_.size(); ++i) {
+    const int cur = last_tracked_current_[i];
+    if (cur >= 0 && static_cast<std::size_t>(cur) < excluded.size() &&
+        excluded[static_cast<std::size_t>(cur)])
+      continue;
+    kept.push_back(last_tracked_[i]);
+  }
+  if (static_cast<int>(kept.size()) < std::max(config_.min_inliers, 8)) return full;
+  const PoseRefinementResult res =
+      refine_stereo_pose(camera_, kept, last_T_ref_cur_, pose_refinement_options(config_));
+  if (!res.success || res.inliers < config_.min_inliers) return full;
+  VoEstimate e = full;
+  e.relative_pose = last_T_ref_prev_.inverse() * res.T_ref_cur;
+  e.covariance = res.covariance;
+  e.inliers = res.inliers;
+  return e;
 }
 
 }  // namespace glmbslam::frontend

@@ -13,6 +13,7 @@
 #include "core/lie.hpp"
 #include "frontend/frontend_config.hpp"
 #include "frontend/stereo_frontend.hpp"
+#include "frontend/stereo_pose_refiner.hpp"
 #include "frontend/stereo_projection.hpp"
 
 namespace glmbslam::frontend {
@@ -35,6 +36,9 @@ struct VoEstimate {
   int matches = 0;                         ///< temporal correspondences found
   int inliers = 0;                         ///< correspondences kept by the refinement
   VoStatus status = VoStatus::kFirstFrame;
+  /// Per measurement of this frame: the index of the previous frame's measurement it was tracked from (a
+  /// refinement inlier whose previous observation was stereo), or −1. Empty on a fallback.
+  std::vector<int> previous_measurement;
   double ms = 0.0;  ///< wall time of track()
   bool fallback() const { return status != VoStatus::kTracked && status != VoStatus::kFirstFrame; }
 };
@@ -49,6 +53,13 @@ class StereoVisualOdometry {
 
   /// A frame without usable images: constant-velocity fallback with status `reason`.
   VoEstimate skip_frame(VoStatus reason = VoStatus::kMissingImage);
+
+  /// The last track()'s motion re-estimated without the points whose current measurement is flagged in
+  /// `excluded` (index-aligned with that frame's measurements): the refinement restarted from the full
+  /// solution with the remaining points, with its own covariance. The backend takes this as its control when
+  /// the flagged measurements are its own, so the same pixels are not counted twice (once in u_k and Q_k,
+  /// once in the landmark updates). Returns `full` unchanged if it was a fallback or too few points remain.
+  VoEstimate excluding(const VoEstimate& full, const std::vector<char>& excluded) const;
 
   /// Number of frames seen so far.
   std::size_t frames() const { return frames_; }
@@ -79,6 +90,12 @@ class StereoVisualOdometry {
   Pose3 velocity_ = Pose3::Identity();    ///< last relative motion (constant-velocity model)
   Matrix6d last_covariance_ = Matrix6d::Zero();
   bool velocity_known_ = false;
+  // The last successful track(): its refinement input, the current measurement of each point (−1: mono),
+  // the refined T_ref_cur and the reference-to-previous transform it was expressed with.
+  std::vector<TrackedPoint> last_tracked_;
+  std::vector<int> last_tracked_current_;
+  Pose3 last_T_ref_cur_ = Pose3::Identity();
+  Pose3 last_T_ref_prev_ = Pose3::Identity();
   cv::Mat previous_thumbnail_;  ///< small copy of the previous left image (repeat detection)
 };
 

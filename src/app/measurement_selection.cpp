@@ -6,7 +6,7 @@ namespace glmbslam::app {
 
 std::vector<int> select_measurements(const frontend::StereoMeasurementList& measurements,
                                      const SelectionGrid& grid, double min_depth, double max_depth,
-                                     int max_count) {
+                                     int max_count, const std::vector<char>& preferred) {
   const int cells = grid.columns * grid.rows;
   std::vector<std::vector<int>> per_cell(static_cast<std::size_t>(cells));
   for (int i = 0; i < static_cast<int>(measurements.size()); ++i) {
@@ -18,7 +18,11 @@ std::vector<int> select_measurements(const frontend::StereoMeasurementList& meas
     per_cell[static_cast<std::size_t>(cy * grid.columns + cx)].push_back(i);
   }
   for (auto& cell : per_cell) {
+    auto is_preferred = [&](int i) {
+      return !preferred.empty() && preferred[static_cast<std::size_t>(i)] != 0;
+    };
     std::stable_sort(cell.begin(), cell.end(), [&](int a, int b) {
+      if (is_preferred(a) != is_preferred(b)) return is_preferred(a);
       return measurements[static_cast<std::size_t>(a)].response >
              measurements[static_cast<std::size_t>(b)].response;
     });

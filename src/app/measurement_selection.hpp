@@ -16,9 +16,12 @@ struct SelectionGrid {
   double height = 376.0;
 };
 
-/// Indices into `measurements` of the selected ones, in a deterministic order.
+/// Indices into `measurements` of the selected ones, in a deterministic order. Within each cell the
+/// measurements flagged in `preferred` (index-aligned with `measurements`; empty = none) come first: the
+/// pipeline flags those the VO tracked from a measurement it handed to the backend in the previous frame, so
+/// the backend keeps re-observing its landmarks instead of seeing a new subset of the features every frame.
 std::vector<int> select_measurements(const frontend::StereoMeasurementList& measurements,
                                      const SelectionGrid& grid, double min_depth, double max_depth,
-                                     int max_count);
+                                     int max_count, const std::vector<char>& preferred = {});
 
 }  // namespace glmbslam::app

@@ -19,11 +19,16 @@
 namespace glmbslam::app {
 
 struct PipelineSettings {
-  int max_measurements = 150;    ///< stereo measurements handed to the backend per frame (spread over a grid)
-  int grid_columns = 10;         ///< selection grid over the image: columns …
-  int grid_rows = 4;             ///< … and rows; each cell contributes its strongest measurements in turn
-  bool overlap_frontend = true;  ///< run the frontend of frame k+1 while the backend processes frame k
-  bool write_plots = true;       ///< PNG plots next to metrics.json
+  int max_measurements = 150;  ///< stereo measurements handed to the backend per frame (spread over a grid)
+  int grid_columns = 10;       ///< selection grid over the image: columns …
+  int grid_rows = 4;           ///< … and rows; each cell contributes its strongest measurements in turn
+  bool prefer_tracked =
+      true;  ///< in each cell, first the features the VO tracked from last frame's selection
+  /// The backend's control u_k, Q_k from the VO points that are not among its measurements (no double
+  /// counting)
+  bool control_excludes_selected = true;
+  bool overlap_frontend = true;     ///< run the frontend of frame k+1 while the backend processes frame k
+  bool write_plots = true;          ///< PNG plots next to metrics.json
   std::string algorithm = "glmb2";  ///< glmb2 (optimal proposal), glmb1 (prior proposal) or vo (no backend)
   /// trajectory.txt holds the best particle's "proposal_mean" (Rao–Blackwellised estimate) or "sample" poses.
   std::string trajectory_estimate = "proposal_mean";

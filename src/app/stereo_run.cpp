@@ -122,6 +122,7 @@ int run_stereo(const RunOptions& options) {
   Stopwatch wall;
   std::future<FrameWork> ahead;
   std::size_t fallbacks = 0, missing = 0;
+  std::vector<char> previous_selected;  // per measurement of the previous frame: handed to the backend
   for (std::size_t k = 0; k < frames; ++k) {
     const std::size_t index = first + k;
     FrameWork work = ahead.valid() ? ahead.get() : process_frame(*dataset, fe, index);
@@ -146,11 +147,25 @@ int run_stereo(const RunOptions& options) {
     record.vo_poses.push_back(vo_pose);
 
     if (use_backend) {
+      frontend::VoEstimate control = est;  // u_k, Q_k for the backend
       Filter::MeasurementSet Z;
       if (work.loaded) {
+        // prefer the features the VO tracked from last frame's selection (track continuity)
+        std::vector<char> preferred;
+        if (config.pipeline.prefer_tracked && !est.previous_measurement.empty()) {
+          preferred.assign(work.features.measurements.size(), 0);
+          for (std::size_t i = 0; i < preferred.size(); ++i) {
+            const int prev = est.previous_measurement[i];
+            preferred[i] = prev >= 0 && static_cast<std::size_t>(prev) < previous_selected.size() &&
+                           previous_selected[static_cast<std::size_t>(prev)];
+          }
+        }
         const auto chosen =
             select_measurements(work.features.measurements, grid, config.measurement.min_depth,
-                                config.measurement.max_depth, config.pipeline.max_measurements);
+                                config.measurement.max_depth, config.pipeline.max_measurements, preferred);
+        previous_selected.assign(work.features.measurements.size(), 0);
+        for (int i : chosen) previous_selected[static_cast<std::size_t>(i)] = 1;
+        if (config.pipeline.control_excludes_selected) control = vo.excluding(est, previous_selected);
         Z.reserve(chosen.size());
         for (int i : chosen) Z.push_back(work.features.measurements[static_cast<std::size_t>(i)].z);
         if (model.uses_appearance()) {  // index-aligned with Z; the filter's copies of the model share them
@@ -166,8 +181,8 @@ int run_stereo(const RunOptions& options) {
         filter.initial_scan(Z);  // the first frame's measurements anchor the map at the known initial pose
       } else {
         backend::RelativePoseControl u;
-        u.delta = est.relative_pose;
-        u.covariance = est.covariance;
+        u.delta = control.relative_pose;
+        u.covariance = control.covariance;
         filter.step(u, Z);
       }
       record.backend_ms.push_back(backend_watch.elapsed_ms());

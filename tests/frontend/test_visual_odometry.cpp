@@ -204,5 +204,59 @@ TEST(StereoVisualOdometry, FallsBackOnHardFramesAndRecovers) {
   EXPECT_EQ(vo.frames(), 6u);
 }
 
+// previous_measurement links each tracked measurement to the previous frame's measurement of the same world
+// point (the synthetic descriptors identify the points), and excluding() re-estimates the motion from the
+// rest: still the true motion, with a larger covariance (less information) and fewer inliers.
+TEST(StereoVisualOdometry, ExcludingMeasurementsReestimatesFromTheRest) {
+  RandomStream rng(15);
+  const test::SyntheticWorld world = test::make_world(3000, rng);
+  StereoVisualOdometry vo(kKittiCamera, VoConfig{}, test::pyramid_scales());
+  const Pose3 step = motion(1.0, 1.5);
+  Pose3 T_wc = Pose3::Identity();
+  const StereoFrameFeatures f0 = test::make_frame(world, T_wc, 0.7, 0.1, rng);
+  vo.track(f0);
+  T_wc = T_wc * step;
+  const StereoFrameFeatures f1 = test::make_frame(world, T_wc, 0.7, 0.1, rng);
+  const VoEstimate full = vo.track(f1);
+  ASSERT_EQ(full.status, VoStatus::kTracked);
+  ASSERT_EQ(full.previous_measurement.size(), f1.measurements.size());
+  int linked = 0;
+  for (std::size_t i = 0; i < f1.measurements.size(); ++i) {
+    const int prev = full.previous_measurement[i];
+    if (prev < 0) continue;
+    ++linked;
+    ASSERT_LT(static_cast<std::size_t>(prev), f0.measurements.size());
+    EXPECT_EQ(f1.measurements[i].descriptor, f0.measurements[static_cast<std::size_t>(prev)].descriptor)
+        << "measurement " << i;
+  }
+  EXPECT_GT(linked, 100);
+  EXPECT_LE(linked, full.inliers);
+
+  // Nothing excluded: the refinement restarted at its own solution stays there (up to its stopping tolerance,
+  // a tiny fraction of the pose uncertainty; the robust inlier set may move by a point at the threshold).
+  const VoEstimate same = vo.excluding(full, std::vector<char>(f1.measurements.size(), 0));
+  EXPECT_LT(nees6(same.relative_pose, full.relative_pose, full.covariance), 0.01);
+  EXPECT_NEAR(same.inliers, full.inliers, 2);
+
+  // Every other linked measurement excluded.
+  std::vector<char> excluded(f1.measurements.size(), 0);
+  int flip = 0;
+  for (std::size_t i = 0; i < f1.measurements.size(); ++i)
+    if (full.previous_measurement[i] >= 0) excluded[i] = static_cast<char>((flip++ % 2) == 0);
+  const VoEstimate part = vo.excluding(full, excluded);
+  EXPECT_EQ(part.status, VoStatus::kTracked);
+  EXPECT_LT(part.inliers, full.inliers - linked / 3);
+  EXPECT_GT(part.covariance.trace(), 1.2 * full.covariance.trace());
+  const Pose3 err = step.inverse() * part.relative_pose;
+  EXPECT_LT(err.translation().norm(), 0.04);
+  EXPECT_LT(rotation_angle(err.linear()) * 180.0 / M_PI, 0.07);
+  EXPECT_LT(nees6(part.relative_pose, step, part.covariance), 22.46);
+
+  // A fallback estimate passes through unchanged.
+  VoEstimate fb = full;
+  fb.status = VoStatus::kTooFewMatches;
+  EXPECT_EQ(vo.excluding(fb, excluded).inliers, full.inliers);
+}
+
 }  // namespace
 }  // namespace glmbslam::frontend

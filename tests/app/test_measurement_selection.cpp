@@ -1,0 +1,54 @@
+// Selection of the stereo measurements handed to the backend (src/app/measurement_selection.hpp).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <set>
+
+#include "app/measurement_selection.hpp"
+
+namespace glmbslam::app {
+namespace {
+
+frontend::StereoMeasurement at(double u, double v, double depth, float response) {
+  frontend::StereoMeasurement m;
+  m.z = Eigen::Vector3d(u, v, u - 10.0);
+  m.point = Eigen::Vector3d(0.0, 0.0, depth);
+  m.response = response;
+  return m;
+}
+
+// Two cells (left and right half of a 2×1 grid), three measurements in each, one out of the depth range.
+frontend::StereoMeasurementList two_cells() {
+  return {at(10, 10, 5, 30),  at(20, 20, 5, 20),  at(30, 30, 5, 10),     // cell 0
+          at(110, 10, 5, 35), at(120, 20, 5, 25), at(130, 30, 90, 99)};  // cell 1 (index 5: too deep)
+}
+
+SelectionGrid grid2x1() {
+  SelectionGrid g;
+  g.columns = 2;
+  g.rows = 1;
+  g.width = 200.0;
+  g.height = 100.0;
+  return g;
+}
+
+TEST(MeasurementSelection, TakesTheStrongestOfEachCellInTurnWithinTheDepthRange) {
+  const auto chosen = select_measurements(two_cells(), grid2x1(), 1.0, 40.0, 3);
+  EXPECT_EQ(chosen, (std::vector<int>{0, 3, 1}));
+  const auto all = select_measurements(two_cells(), grid2x1(), 1.0, 40.0, 100);
+  EXPECT_EQ(std::set<int>(all.begin(), all.end()), (std::set<int>{0, 1, 2, 3, 4}));  // never index 5
+}
+
+TEST(MeasurementSelection, PreferredMeasurementsComeFirstInTheirCell) {
+  std::vector<char> preferred(6, 0);
+  preferred[2] = 1;  // the weakest of cell 0
+  preferred[5] = 1;  // out of the depth range: preference does not override the range
+  const auto chosen = select_measurements(two_cells(), grid2x1(), 1.0, 40.0, 4, preferred);
+  EXPECT_EQ(chosen, (std::vector<int>{2, 3, 0, 4}));
+  // No flags and all-zero flags select the same.
+  EXPECT_EQ(select_measurements(two_cells(), grid2x1(), 1.0, 40.0, 4, std::vector<char>(6, 0)),
+            select_measurements(two_cells(), grid2x1(), 1.0, 40.0, 4));
+}
+
+}  // namespace
+}  // namespace glmbslam::app
