@@ -3,11 +3,11 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <map>
 #include <vector>
 
 #include "backend/glmb/glmb_update.hpp"
 #include "backend/models/range_bearing_model.hpp"
+#include "glmb_brute_force.hpp"
 
 namespace glmbslam::backend {
 namespace {
@@ -58,73 +58,6 @@ TEST(Innovation, EkfUpdateMatchesClosedForm) {
   EXPECT_NEAR(log_lik, expected, 1e-10);
 }
 
-struct BruteChild {
-  double log_w;
-  std::map<std::uint64_t, Eigen::Vector2d> landmarks;  // label key → mean
-};
-
-// Independent enumeration of Eq. 11–16 for every parent hypothesis and every valid association.
-std::vector<BruteChild> brute_force(const Model& model, const Map& prior, const Pose2& x, const Z& z) {
-  std::vector<BruteChild> out;
-  const int M = static_cast<int>(z.size());
-  for (const auto& h : prior.hypotheses) {
-    struct Row {
-      Label label;
-      Eigen::Vector2d mean;
-      Eigen::Matrix2d P;
-      double r;  // existence factor (p_S or r_B)
-    };
-    std::vector<Row> rows;
-    std::map<std::uint64_t, Eigen::Vector2d> passive;
-    for (auto t : h.tracks) {
-      const auto& tr = prior.tracks[t];
-      if (model.in_field_of_view(x, tr.mean)) {
-        rows.push_back({tr.label, tr.mean, tr.cov, model.survival_probability(x, tr.mean)});
-      } else {
-        passive[tr.label.key()] = tr.mean;
-      }
-    }
-    for (const auto& b : prior.births) rows.push_back({b.label, b.mean, b.cov, std::exp(b.log_existence)});
-    const int P = static_cast<int>(rows.size());
-    std::vector<int> g(P, -1);
-    while (true) {
-      bool valid = true;
-      for (int i = 0; i < P && valid; ++i)
-        for (int k = i + 1; k < P; ++k)
-          if (g[i] > 0 && g[i] == g[k]) valid = false;
-      if (valid) {
-        BruteChild c{h.log_weight, passive};
-        for (int i = 0; i < P; ++i) {
-          const Row& r = rows[i];
-          const double pd = model.detection_probability(x, r.mean);
-          if (g[i] == -1) {
-            c.log_w += std::log(1 - r.r);
-            continue;
-          }
-          if (g[i] == 0) {
-            c.log_w += std::log(r.r * (1 - pd));
-            c.landmarks[r.label.key()] = r.mean;
-            continue;
-          }
-          Model::LandmarkJacobian H;
-          const Eigen::Vector2d zhat = model.linearize(x, r.mean, nullptr, &H);
-          const Eigen::Matrix2d S = H * r.P * H.transpose() + model.noise();
-          const Eigen::Vector2d nu = model.residual(z[g[i] - 1], zhat);
-          const double lik =
-              std::exp(-0.5 * nu.dot(S.inverse() * nu)) / (2 * M_PI * std::sqrt(S.determinant()));
-          c.log_w += std::log(r.r * pd * lik) - model.log_clutter_intensity(z[g[i] - 1]);
-          c.landmarks[r.label.key()] = r.mean + r.P * H.transpose() * S.inverse() * nu;
-        }
-        out.push_back(c);
-      }
-      int i = 0;
-      while (i < P && ++g[i] > M) g[i++] = -1;
-      if (i == P) break;
-    }
-  }
-  return out;
-}
-
 TEST(GlmbUpdate, MatchesBruteForceEnumeration) {
   RangeBearingConfig sensor = small_sensor();  // broad noise, so that every association has a findable weight
   sensor.sigma_range = 1.0;
@@ -158,52 +91,10 @@ TEST(GlmbUpdate, MatchesBruteForceEnumeration) {
   RandomStream rng(7, 0);
   Map post;
   const GlmbUpdateStats stats = updater.update(prior, x, z, 1, rng, post);
-  std::vector<BruteChild> brute;  // children of different parents with the same labelled densities merge
-  for (const auto& c : brute_force(model, prior, x, z)) {
-    bool merged = false;
-    for (auto& d : brute) {
-      if (d.landmarks.size() != c.landmarks.size()) continue;
-      bool same = true;
-      for (const auto& [key, mean] : c.landmarks) {
-        const auto it = d.landmarks.find(key);
-        if (it == d.landmarks.end() || (it->second - mean).norm() > 1e-12) same = false;
-      }
-      if (same) {
-        d.log_w = log_add(d.log_w, c.log_w);
-        merged = true;
-        break;
-      }
-    }
-    if (!merged) brute.push_back(c);
-  }
-  std::vector<double> logs;
-  for (const auto& c : brute) logs.push_back(c.log_w);
-  const double log_norm = log_sum_exp(logs);
-  double min_w = 0.0;
-  for (const auto& c : brute) min_w = std::min(min_w, c.log_w - log_norm);
-  ASSERT_GT(min_w, std::log(1e-5)) << "the test problem must keep every hypothesis findable";
-  EXPECT_NEAR(stats.log_normalizer, log_norm, 1e-9);
+  // children of different parents with the same labelled densities merge
+  const auto brute = enumeration::merge_children(enumeration::brute_force(model, prior, x, z));
   EXPECT_EQ(stats.active_tracks, 2);
-  ASSERT_EQ(post.hypotheses.size(), brute.size());
-  double total = 0.0;
-  for (const auto& h : post.hypotheses) total += std::exp(h.log_weight);
-  EXPECT_NEAR(total, 1.0, 1e-12);
-  // match each brute-force child to a posterior hypothesis with the same labels and means
-  for (const auto& c : brute) {
-    bool found = false;
-    for (const auto& h : post.hypotheses) {
-      if (h.tracks.size() != c.landmarks.size()) continue;
-      bool same = true;
-      for (auto t : h.tracks) {
-        const auto it = c.landmarks.find(post.tracks[t].label.key());
-        if (it == c.landmarks.end() || (it->second - post.tracks[t].mean).norm() > 1e-9) same = false;
-      }
-      if (!same) continue;
-      found = true;
-      EXPECT_NEAR(h.log_weight, c.log_w - log_norm, 1e-9);
-    }
-    EXPECT_TRUE(found);
-  }
+  ASSERT_NO_FATAL_FAILURE(enumeration::expect_matches_enumeration(post, stats, brute, 1e-9));
   // next-step births: z_1 gates with a mapped landmark, but the gate is infinite here, so both are explained
   ASSERT_EQ(post.births.size(), 2u);
   EXPECT_EQ(post.births[0].label, (Label{2, 0}));
