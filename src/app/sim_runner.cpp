@@ -446,6 +446,7 @@ json run_simulation(const SimOptions& o) {
       std::sqrt(se_head / static_cast<double>(std::max<std::size_t>(n_err, 1))) * kRad2Deg;
   m["position_rmse_per_run_m"] = summary_json(per_run_pos);
   m["heading_rmse_per_run_deg"] = summary_json(per_run_head);
+  m["position_rmse_each_run_m"] = per_run_pos;  // run r = data realisation r
   m["rmse_per_step"] = json{{"x_m", rmse_x}, {"y_m", rmse_y}, {"heading_deg", rmse_h}};
   if (o.scenario == "paper2019") {
     const double mean_over_steps = mean_of(ospa_mean);
@@ -462,6 +463,7 @@ json run_simulation(const SimOptions& o) {
              {"p", kGospaP},
              {"alpha", 2.0},
              {"distance_m", summary_json(gospa_d)},
+             {"distance_each_run_m", gospa_d},
              {"localisation_m2", summary_json(gospa_loc)},
              {"missed_m2", summary_json(gospa_miss)},
              {"false_m2", summary_json(gospa_false)},

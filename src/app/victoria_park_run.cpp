@@ -20,7 +20,8 @@
 //   in
 //                    the GPS frame, heading [rad]) of the estimate at that step (highest-weight particle);
 //   map.txt          "x y existence" per landmark of the final map estimate; map.pcd the same as a PCD (z =
-//   0); trajectory.png   GPS fixes, estimated trajectory and map (like paper 003 Fig. 4).
+//   0); trajectory.png   GPS fixes, estimated trajectory and map (like paper 003 Fig. 4);
+//   gps_errors.txt   "t error" per GPS fix used by position_rmse_m (scan time [s], ‖p̂ − p_gps‖ [m]).
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -177,6 +178,11 @@ void write_outputs(const std::filesystem::path& out, const VictoriaParkConfig& c
   map.precision(10);
   for (const auto& p : rec.map) map << p.position.x() << ' ' << p.position.y() << ' ' << p.existence << '\n';
   write_text_file_atomically(out / "map.txt", [&](std::ostream& os) { os << map.str(); });
+  std::ostringstream errors;
+  errors.precision(10);
+  for (std::size_t i = 0; i < err.error_m.size(); ++i)
+    errors << err.scan_time[i] << ' ' << err.error_m[i] << '\n';
+  write_text_file_atomically(out / "gps_errors.txt", [&](std::ostream& os) { os << errors.str(); });
   io::write_pcd_map((out / "map.pcd").string(), rec.map);
 
   if (cfg.write_plot) {
