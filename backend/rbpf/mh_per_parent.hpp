@@ -22,13 +22,14 @@ class MhPerParent {
   using MeasurementSet = typename MhProposal<Motion, Meas>::MeasurementSet;
 
   MhPerParent(const Motion& motion, const Meas& model, const MhProposalConfig& config)
-      : motion_(motion), proposal_(motion, model, config) {}
+      : motion_(motion), proposal_(motion, model, config), single_mean_(config.single_particle == "mean") {}
 
   /// One MH-ID per distinct parent of `particles` (each with `trajectory` and `map`), built in parallel at
   /// x̄ = f(x⁻, u), P̄ = the process noise.
   template <class Particle>
   void build(const std::vector<Particle>& particles, const Control& u, const MeasurementSet& Z) {
     const std::size_t n = particles.size();
+    use_mean_ = single_mean_ && n == 1;
     parent_of_.resize(n);
     parents_.clear();
     parent_slot_.clear();
@@ -53,18 +54,21 @@ class MhPerParent {
   }
 
   /// Particle i: x ~ its parent's MH-ID, x_estimate = the MH-ID's mean; returns log f(x|x⁻,u) − log q(x)
-  /// with the full mixture density q (Eq. 45).
+  /// with the full mixture density q (Eq. 45). With a single particle and MhProposalConfig::single_particle
+  /// "mean", x = x_estimate (no draw; the weight of a single particle is normalised away).
   double sample(std::size_t i, RandomStream& rng, State& x, State& x_estimate) const {
     const std::size_t s = static_cast<std::size_t>(parent_of_[i]);
     const auto& q = results_[s];
-    x = proposal_.sample(q, rng);
     x_estimate = proposal_.mean(q);
+    x = use_mean_ ? x_estimate : proposal_.sample(q, rng);
     return log_gaussian(Motion::local(x, pred_[s]), pred_cov_[s]) - proposal_.log_density(q, x);
   }
 
  private:
   Motion motion_;
   MhProposal<Motion, Meas> proposal_;
+  bool single_mean_ = false;  ///< MhProposalConfig::single_particle == "mean"
+  bool use_mean_ = false;     ///< ... and this step has one particle
   std::vector<int> parent_of_;
   std::vector<std::size_t> parents_;
   std::unordered_map<const void*, int> parent_slot_;

@@ -10,6 +10,7 @@ void load_mh_proposal_config(ConfigNode node, MhProposalConfig& config) {
   node.read_in_range("gate_threshold", config.gate_threshold, 0.0, 1e6);
   node.read_in_range("fov_margin_sigmas", config.fov_margin_sigmas, 0.0, 100.0);
   node.read_choice("weights", config.weights, {"eq44", "prior_predictive"});
+  node.read_choice("single_particle", config.single_particle, {"sample", "mean"});
   node.finish();
 }
 

@@ -17,6 +17,12 @@ struct MhProposalConfig {
   /// "prior_predictive" (the ranked assignment's own weight γ^t at x̄ with the pose-marginal innovation, i.e.
   /// Eq. 36–38 evaluated at the predicted pose; penalises assignments that need a large pose correction).
   std::string weights = "eq44";
+  /// With a single particle (N = 1): "sample" draws the pose from the MH-ID (paper 003 Algorithm 2, step 9);
+  /// "mean" takes the MH-ID's mixture mean instead. With N = 1 no weight can correct a draw, and the draw's
+  /// noise (the proposal's covariance, every step) stays in the map, which is conditioned on the drawn
+  /// trajectory: the single trajectory is a random walk around the filtered one. The mean is the point that
+  /// minimises the expected squared error to a draw. No effect for N > 1 (the particles must be draws).
+  std::string single_particle = "sample";
 };
 
 /// Loads the keys above (member names). Unknown keys are errors.

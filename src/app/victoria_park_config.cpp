@@ -24,6 +24,9 @@ VictoriaParkConfig default_victoria_park_config() {
   c.phd3.resampling = "ess";
   c.phd3.ess_threshold = 0.1;
   c.phd3.existence_threshold = 0.09;
+  // glmb-mh and phd3 with N = 1: the pose is the MH-ID's mean, not a draw (mh.single_particle; the figures
+  // are in config/victoria_park.yaml)
+  c.mh.single_particle = "mean";
   return c;
 }
 

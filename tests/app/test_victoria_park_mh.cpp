@@ -62,6 +62,8 @@ TEST(VictoriaParkMh, ThePhd3SectionDefaultsToThePublishedSettings) {
   EXPECT_DOUBLE_EQ(c.phd3.existence_threshold, d.phd3.existence_threshold);
   EXPECT_EQ(c.rbpf.resampling, d.rbpf.resampling);
   EXPECT_DOUBLE_EQ(c.rbpf.ess_threshold, d.rbpf.ess_threshold);
+  EXPECT_EQ(d.mh.single_particle, "mean");
+  EXPECT_EQ(c.mh.single_particle, d.mh.single_particle);
   VictoriaParkConfig e;
   EXPECT_THROW(load_victoria_park_config(ConfigNode::parse("phd3:\n  proposal: optimal\n", "t"), e),
                ConfigError);

@@ -88,10 +88,11 @@ struct Estimates {
 };
 
 template <class Slam, class Config>
-Estimates run(const World& w, const Config& config, int threads) {
+Estimates run(const World& w, const Config& config, int threads, const MhProposalConfig& mh = {},
+              typename Slam::PoseList* estimated = nullptr) {
   const int before = thread_count();
   set_thread_count(threads);
-  Slam slam(UnicycleMotion(w.mc), RangeBearingModel(w.sc), config, w.truth[0], MhProposalConfig{});
+  Slam slam(UnicycleMotion(w.mc), RangeBearingModel(w.sc), config, w.truth[0], mh);
   Estimates e;
   double se = 0.0;
   for (std::size_t k = 0; k < w.odometry.size(); ++k) {
@@ -102,6 +103,7 @@ Estimates run(const World& w, const Config& config, int threads) {
   }
   e.rmse = std::sqrt(se / static_cast<double>(w.odometry.size()));
   e.resamples = slam.resample_count();
+  if (estimated != nullptr) *estimated = slam.estimated_trajectory();
   set_thread_count(before);
   return e;
 }
@@ -141,6 +143,49 @@ TEST(PhdSlamMh, DeterministicAcrossThreadCountsAndBeatsDeadReckoning) {
   expect_same(one, two, "phd mh");
   std::printf("phd mh: rmse %.3f m, dead reckoning %.3f m\n", one.rmse, w.dead_reckoning_rmse());
   EXPECT_LT(one.rmse, 0.5 * w.dead_reckoning_rmse());  // measured 0.55 m vs 2.19 m
+}
+
+// mh.single_particle "mean": with N = 1 every pose is the MH-ID's mean (= the estimate recorded at each step,
+// which "sample" draws around); with N > 1 the key changes nothing (particles stay draws).
+template <class Slam, class Config>
+void check_single_particle_mean(Config c) {
+  const World w(40);
+  MhProposalConfig mean_cfg, sample_cfg;
+  mean_cfg.single_particle = "mean";
+  sample_cfg.single_particle = "sample";
+  c.particles = 1;
+  typename Slam::PoseList est_mean, est_sample;
+  const Estimates one_mean = run<Slam>(w, c, 1, mean_cfg, &est_mean);
+  const Estimates one_sample = run<Slam>(w, c, 1, sample_cfg, &est_sample);
+  ASSERT_EQ(est_mean.size(), w.odometry.size() + 1);  // steps 0..K
+  int differ = 0;
+  for (std::size_t k = 0; k < w.odometry.size(); ++k) {
+    EXPECT_EQ(one_mean.poses[k], est_mean[k + 1]) << "step " << k + 1;
+    differ += one_sample.poses[k] != est_sample[k + 1];
+  }
+  EXPECT_EQ(differ, static_cast<int>(w.odometry.size()));  // a draw is never exactly the mean
+  std::printf("N = 1: rmse mean %.3f m, sample %.3f m, dead reckoning %.3f m\n", one_mean.rmse,
+              one_sample.rmse, w.dead_reckoning_rmse());
+  EXPECT_LT(one_mean.rmse, w.dead_reckoning_rmse());
+  c.particles = 4;
+  expect_same(run<Slam>(w, c, 1, mean_cfg), run<Slam>(w, c, 1, sample_cfg), "N = 4");
+}
+
+TEST(GlmbSlamMh, SingleParticleMeanUsesTheProposalMeanOnlyForOneParticle) {
+  RbpfConfig c;
+  c.seed = 5;
+  c.proposal = "mh";
+  c.resampling = "ess";
+  check_single_particle_mean<GlmbSlam<UnicycleMotion, RangeBearingModel>>(c);
+}
+
+TEST(PhdSlamMh, SingleParticleMeanUsesTheProposalMeanOnlyForOneParticle) {
+  PhdConfig c;
+  c.seed = 5;
+  c.proposal = "mh";
+  c.likelihood = "poisson";
+  c.resampling = "ess";
+  check_single_particle_mean<PhdSlam<UnicycleMotion, RangeBearingModel>>(c);
 }
 
 TEST(MhFilters, ConfigsAcceptAndRejectProposalNames) {

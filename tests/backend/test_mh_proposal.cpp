@@ -247,6 +247,11 @@ TEST(MhProposal, ConfigLoaderRejectsUnknownKeys) {
   load_mh_proposal_config(ConfigNode::parse("weights: prior_predictive\n", "t"), c);
   EXPECT_EQ(c.weights, "prior_predictive");
   EXPECT_THROW(load_mh_proposal_config(ConfigNode::parse("weights: posterior\n", "t"), c), ConfigError);
+  EXPECT_EQ(MhProposalConfig().single_particle, "sample");  // paper 003 Algorithm 2
+  MhProposalConfig s;  // (a rejected choice stays in the config it was read into)
+  load_mh_proposal_config(ConfigNode::parse("single_particle: mean\n", "t"), s);
+  EXPECT_EQ(s.single_particle, "mean");
+  EXPECT_THROW(load_mh_proposal_config(ConfigNode::parse("single_particle: mode\n", "t"), s), ConfigError);
 }
 
 }  // namespace
