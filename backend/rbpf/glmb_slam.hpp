@@ -163,7 +163,9 @@ class GlmbSlam {
       }
       std::shared_ptr<Map> map = std::move(fresh_[i]);
       const GlmbUpdateStats s = updater_.update(*p.map, x, Z, k, rng, *map);
-      if (!optimal || !paper) log_increment += s.log_normalizer;
+      if (!optimal || !paper)
+        log_increment +=
+            config_.particle_normalizer == "factorized" ? s.log_normalizer_factorized : s.log_normalizer;
       Particle& out = next_[i];
       out.log_weight = p.log_weight + log_increment;
       if (!std::isfinite(out.log_weight)) out.log_weight = kLogZero;

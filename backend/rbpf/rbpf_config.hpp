@@ -27,7 +27,10 @@ struct RbpfConfig {
   int ipl_iterations = 5;             ///< relinearisations of the FastSLAM-2.0 Gaussian (003 Algorithm 1)
   double ipl_tolerance = 1e-3;        ///< KL divergence at which the relinearisation stops
   double proposal_gate_threshold = 0.0;  ///< χ² gate with the pose-marginal S' (≤ 0: use glmb.gate_threshold)
-  GlmbConfig glmb;                       ///< map update settings (YAML child "glmb")
+  /// Ĝ(x) in the particle weight: "sampled" (the sum over the Gibbs sampler's children, paper 000) or
+  /// "factorized" (GlmbUpdateStats::log_normalizer_factorized: no sampler noise)
+  std::string particle_normalizer = "sampled";
+  GlmbConfig glmb;  ///< map update settings (YAML child "glmb")
 };
 
 /// Keys = member names; the map settings in the child mapping "glmb". Unknown keys are errors.
