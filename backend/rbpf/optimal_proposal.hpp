@@ -182,8 +182,10 @@ class OptimalProposal {
     symmetrize(out.cov);
   }
 
-  /// Draws x ~ q (the moment-matched Gaussian, or the mixture).
+  /// Draws x ~ q (the moment-matched Gaussian, or the mixture); its mean with one particle and
+  /// single_particle "mean".
   State sample(const Result& q, RandomStream& rng) const {
+    if (config_.particles == 1 && config_.single_particle == "mean") return q.mean;  // see RbpfConfig
     if (!q.mixture) return Motion::retract(q.mean, rng.gaussian<kDim>(Tangent::Zero(), q.cov));
     double u = rng.uniform();
     std::size_t c = 0;

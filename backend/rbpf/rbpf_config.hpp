@@ -30,6 +30,9 @@ struct RbpfConfig {
   /// Ĝ(x) in the particle weight: "sampled" (the sum over the Gibbs sampler's children, paper 000) or
   /// "factorized" (GlmbUpdateStats::log_normalizer_factorized: no sampler noise)
   std::string particle_normalizer = "sampled";
+  /// With one particle: "sample" draws the pose from the optimal-kernel proposal (paper 000); "mean" takes
+  /// the proposal's mean (the minimum-MSE point; a lone particle has no weights to correct its draw noise)
+  std::string single_particle = "sample";
   GlmbConfig glmb;  ///< map update settings (YAML child "glmb")
 };
 

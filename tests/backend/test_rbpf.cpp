@@ -120,6 +120,30 @@ TEST(GlmbSlam, SameSeedSameOutputWhateverTheThreadCount) {
   set_thread_count(threads);
 }
 
+// single_particle "mean" with one particle: every pose is the proposal mean (the recorded point estimate);
+// "sample" draws around it; with more particles the setting changes nothing.
+TEST(GlmbSlam, SingleParticleMeanTakesTheProposalMean) {
+  const SmallWorld world(20, 2);
+  auto trajectories = [&](int particles, const std::string& mode) {
+    RbpfConfig c = small_config("optimal");
+    c.particles = particles;
+    c.single_particle = mode;
+    Slam slam(UnicycleMotion(world.motion_config), RangeBearingModel(world.sensor), c, world.truth[0]);
+    for (int k = 0; k < 20; ++k) slam.step(world.odometry[k], world.scans[k]);
+    return std::make_pair(slam.trajectory(), slam.estimated_trajectory());
+  };
+  const auto [mean_poses, mean_estimates] = trajectories(1, "mean");
+  ASSERT_EQ(mean_poses.size(), 21u);
+  for (std::size_t k = 0; k < mean_poses.size(); ++k) EXPECT_EQ(mean_poses[k], mean_estimates[k]) << k;
+  const auto [sample_poses, sample_estimates] = trajectories(1, "sample");
+  int differ = 0;
+  for (std::size_t k = 1; k < sample_poses.size(); ++k) differ += !(sample_poses[k] == sample_estimates[k]);
+  EXPECT_EQ(differ, 20);
+  const auto four_mean = trajectories(4, "mean");
+  const auto four_sample = trajectories(4, "sample");
+  EXPECT_EQ(four_mean.first, four_sample.first);
+}
+
 TEST(GlmbSlam, RejectsNonFiniteInputWithoutChangingState) {
   const SmallWorld world(2, 2);
   Slam slam(UnicycleMotion(world.motion_config), RangeBearingModel(world.sensor), small_config("optimal"),
