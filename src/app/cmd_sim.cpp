@@ -20,6 +20,11 @@ void register_sim_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--particles", options->particles, "particles per filter")->capture_default_str();
   cmd->add_option("--runs", options->runs, "Monte Carlo runs (run in parallel)")->capture_default_str();
+  cmd->add_option(
+         "--first-run", options->first_run,
+         "index of the first run (runs first-run .. first-run + runs - 1; phdslam3: the run index is "
+         "the data realisation and the filter seed, so tuning runs can be kept apart from reported ones)")
+      ->capture_default_str();
   cmd->add_option("--clutter", options->clutter, "clutter rate λ_c per scan (paper2019; default 5)");
   cmd->add_option("--seed", options->seed, "filter seed base (run r uses seed·1000003 + r)")
       ->capture_default_str();

@@ -275,7 +275,8 @@ void write_plots(const std::filesystem::path& dir, const sim::Scenario2D& s0, co
                  const SimOptions& o) {
   const std::string tag = o.scenario + " " + o.algorithm + " N=" + std::to_string(o.particles);
   {
-    eval::LinePlot plot("Trajectory and map, run 0 (" + tag + ")", "x [m]", "y [m]");
+    eval::LinePlot plot("Trajectory and map, run " + std::to_string(o.first_run) + " (" + tag + ")", "x [m]",
+                        "y [m]");
     std::vector<double> gx, gy, ex, ey, lx, ly, mx, my;
     for (const auto& p : s0.poses) gx.push_back(p(0)), gy.push_back(p(1));
     for (const auto& p : r0.estimates) ex.push_back(p(0)), ey.push_back(p(1));
@@ -326,6 +327,7 @@ json run_simulation(const SimOptions& o) {
   }
   if (o.particles < 1) throw ConfigError("--particles must be at least 1");
   if (o.runs < 1) throw ConfigError("--runs must be at least 1");
+  if (o.first_run < 0) throw ConfigError("--first-run must not be negative");
   if (o.out_dir.empty()) throw ConfigError("--out is required");
   const Filters filters = load_filters(o);
   ensure_writable_directory(o.out_dir);
@@ -365,12 +367,13 @@ json run_simulation(const SimOptions& o) {
   Stopwatch wall;
   parallel_for(runs, [&](std::size_t r) {
     try {
-      const sim::Scenario2D s = scenario_of(static_cast<int>(r));
-      records[r] = run_one(s, o, filters, static_cast<int>(r));
+      const int run = o.first_run + static_cast<int>(r);
+      const sim::Scenario2D s = scenario_of(run);
+      records[r] = run_one(s, o, filters, run);
       std::lock_guard<std::mutex> lock(log_mutex);
       ++done;
-      spdlog::info("sim {} {} N={}: run {} done ({}/{})", o.scenario, o.algorithm, o.particles, r, done,
-                   runs);
+      spdlog::info("sim {} {} N={}: run {} done ({}/{})", o.scenario, o.algorithm, o.particles,
+                   o.first_run + static_cast<int>(r), done, runs);
     } catch (...) {
       errors[r] = std::current_exception();
     }
@@ -381,7 +384,7 @@ json run_simulation(const SimOptions& o) {
   const double wall_s = wall.elapsed_ms() / 1000.0;
 
   // ground truth per run (phdslam3 regenerates only the measurements and odometry: the poses are the same)
-  const sim::Scenario2D s0 = scenario_of(0);
+  const sim::Scenario2D s0 = scenario_of(o.first_run);
   const std::size_t K = s0.steps();
   std::vector<double> rmse_x(K, 0.0), rmse_y(K, 0.0), rmse_h(K, 0.0), ospa_mean;
   std::vector<double> per_run_pos, per_run_head, ms_all, ess_all, final_ospa, gospa_d, gospa_loc, gospa_miss,
@@ -437,6 +440,7 @@ json run_simulation(const SimOptions& o) {
   m["algorithm"] = o.algorithm;
   m["particles"] = o.particles;
   m["runs"] = o.runs;
+  m["first_run"] = o.first_run;
   m["clutter_rate"] = clutter;
   m["seed"] = o.seed;
   m["steps"] = K;
@@ -447,7 +451,7 @@ json run_simulation(const SimOptions& o) {
       std::sqrt(se_head / static_cast<double>(std::max<std::size_t>(n_err, 1))) * kRad2Deg;
   m["position_rmse_per_run_m"] = summary_json(per_run_pos);
   m["heading_rmse_per_run_deg"] = summary_json(per_run_head);
-  m["position_rmse_each_run_m"] = per_run_pos;  // run r = data realisation r
+  m["position_rmse_each_run_m"] = per_run_pos;  // entry i: run first_run + i (= data realisation)
   m["rmse_per_step"] = json{{"x_m", rmse_x}, {"y_m", rmse_y}, {"heading_deg", rmse_h}};
   if (o.scenario == "paper2019") {
     const double mean_over_steps = mean_of(ospa_mean);

@@ -73,6 +73,34 @@ TEST(SimRunner, PhdSlam3ReportsGospa) {
   EXPECT_FALSE(m.contains("ospa"));
 }
 
+// --first-run R0: run R0 + i is the same run (data realisation and filter seed) whatever the first run.
+TEST(SimRunner, FirstRunSelectsTheRealisations) {
+  GLMBSLAM_REQUIRE_DATA(data, "phdslam3_synthetic/Environment_SLAM.mat");
+  const auto dir = test::fresh_temp_dir("sim_runner_first_run");
+  SimOptions o;
+  o.scenario = "phdslam3";
+  o.algorithm = "glmb2";
+  o.particles = 2;
+  o.runs = 2;
+  o.max_steps = 30;
+  o.plots = false;
+  o.out_dir = dir.string();
+  o.data_dir = test::shared_data_dir().string();
+  const nlohmann::json both = run_simulation(o);
+  o.first_run = 1;
+  o.runs = 1;
+  const nlohmann::json second = run_simulation(o);
+  ASSERT_EQ(both["position_rmse_each_run_m"].size(), 2u);
+  ASSERT_EQ(second["position_rmse_each_run_m"].size(), 1u);
+  EXPECT_EQ(second["first_run"], 1);
+  EXPECT_EQ(second["position_rmse_each_run_m"][0].get<double>(),
+            both["position_rmse_each_run_m"][1].get<double>());
+  EXPECT_NE(both["position_rmse_each_run_m"][0].get<double>(),
+            both["position_rmse_each_run_m"][1].get<double>());
+  o.first_run = -1;
+  EXPECT_THROW(run_simulation(o), ConfigError);
+}
+
 TEST(SimRunner, RejectsBadOptions) {
   const auto dir = test::fresh_temp_dir("sim_runner_bad");
   SimOptions o = small("glmb1", dir);
