@@ -53,18 +53,24 @@ TEST(SimRunner, WritesMetricsAndPlotsAndIsDeterministicAcrossThreadCounts) {
   }
 }
 
-TEST(SimRunner, PhdSlam3ReportsGospa) {
-  GLMBSLAM_REQUIRE_DATA(data, "phdslam3_synthetic/Environment_SLAM.mat");
-  const auto dir = test::fresh_temp_dir("sim_runner_phdslam3");
+// phdslam3, 2 runs of its first 30 steps, 2 particles, no plots.
+SimOptions phdslam3_short(const std::string& algorithm, const std::filesystem::path& dir) {
   SimOptions o;
   o.scenario = "phdslam3";
-  o.algorithm = "phd1";
+  o.algorithm = algorithm;
   o.particles = 2;
   o.runs = 2;
   o.max_steps = 30;
   o.plots = false;
   o.out_dir = dir.string();
   o.data_dir = test::shared_data_dir().string();
+  return o;
+}
+
+TEST(SimRunner, PhdSlam3ReportsGospa) {
+  GLMBSLAM_REQUIRE_DATA(data, "phdslam3_synthetic/Environment_SLAM.mat");
+  const auto dir = test::fresh_temp_dir("sim_runner_phdslam3");
+  SimOptions o = phdslam3_short("phd1", dir);
   const nlohmann::json m = run_simulation(o);
   ASSERT_TRUE(m.contains("gospa"));
   EXPECT_EQ(m["gospa"]["c_m"], 20.0);
@@ -77,15 +83,7 @@ TEST(SimRunner, PhdSlam3ReportsGospa) {
 TEST(SimRunner, FirstRunSelectsTheRealisations) {
   GLMBSLAM_REQUIRE_DATA(data, "phdslam3_synthetic/Environment_SLAM.mat");
   const auto dir = test::fresh_temp_dir("sim_runner_first_run");
-  SimOptions o;
-  o.scenario = "phdslam3";
-  o.algorithm = "glmb2";
-  o.particles = 2;
-  o.runs = 2;
-  o.max_steps = 30;
-  o.plots = false;
-  o.out_dir = dir.string();
-  o.data_dir = test::shared_data_dir().string();
+  SimOptions o = phdslam3_short("glmb2", dir);
   const nlohmann::json both = run_simulation(o);
   o.first_run = 1;
   o.runs = 1;
