@@ -238,9 +238,10 @@ VoEstimate StereoVisualOdometry::track(const StereoFrameFeatures& frame) {
 
   // Two-view stereo bundle adjustment.
   std::vector<TrackedPoint> tracked;
-  std::vector<std::pair<int, int>> tracked_pair;  // (previous measurement, current measurement or −1)
+  std::vector<int> tracked_ref, tracked_cur;  // per point: previous measurement, current one (−1: mono)
   tracked.reserve(matches.size());
-  tracked_pair.reserve(matches.size());
+  tracked_ref.reserve(matches.size());
+  tracked_cur.reserve(matches.size());
   for (std::size_t i = 0; i < matches.size(); ++i) {
     if (!use[i]) continue;
     const StereoMeasurement& r = ref_.measurements[static_cast<std::size_t>(matches[i].ref)];
@@ -264,7 +265,8 @@ VoEstimate StereoVisualOdometry::track(const StereoFrameFeatures& frame) {
       t.cur_stereo = false;
     }
     tracked.push_back(t);
-    tracked_pair.emplace_back(matches[i].ref, mi);
+    tracked_ref.push_back(matches[i].ref);
+    tracked_cur.push_back(mi);
   }
   const PoseRefinementOptions opt = pose_refinement_options(config_);
   const PoseRefinementResult res = refine_stereo_pose(camera_, tracked, T_ref_cur, opt);
@@ -277,12 +279,6 @@ VoEstimate StereoVisualOdometry::track(const StereoFrameFeatures& frame) {
     return finish(e);
   }
 
-  last_tracked_ = tracked;
-  last_tracked_current_.resize(tracked.size());
-  for (std::size_t i = 0; i < tracked.size(); ++i) last_tracked_current_[i] = tracked_pair[i].second;
-  last_T_ref_cur_ = res.T_ref_cur;
-  last_T_ref_prev_ = T_ref_prev_;
-
   VoEstimate e;
   e.status = VoStatus::kTracked;
   e.relative_pose = T_ref_prev_.inverse() * res.T_ref_cur;
@@ -291,9 +287,14 @@ VoEstimate StereoVisualOdometry::track(const StereoFrameFeatures& frame) {
   e.inliers = res.inliers;
   e.previous_measurement.assign(frame.measurements.size(), -1);
   for (std::size_t i = 0; i < tracked.size(); ++i) {
-    if (res.inlier[i] && tracked_pair[i].second >= 0)
-      e.previous_measurement[static_cast<std::size_t>(tracked_pair[i].second)] = tracked_pair[i].first;
+    if (res.inlier[i] && tracked_cur[i] >= 0)
+      e.previous_measurement[static_cast<std::size_t>(tracked_cur[i])] = tracked_ref[i];
   }
+  // kept for excluding()
+  last_tracked_ = std::move(tracked);
+  last_tracked_current_ = std::move(tracked_cur);
+  last_T_ref_cur_ = res.T_ref_cur;
+  last_T_ref_prev_ = T_ref_prev_;
   velocity_ = e.relative_pose;
   velocity_known_ = true;
   last_covariance_ = e.covariance;

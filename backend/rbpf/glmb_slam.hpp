@@ -80,7 +80,8 @@ class GlmbSlam {
         config_(config),
         updater_(model, config.glmb),
         proposal_(motion, model, config),
-        mh_(motion, model, mh) {
+        mh_(motion, model, mh),
+        factorized_(config.particle_normalizer == "factorized") {
     if (config.particles < 1) throw ConfigError("rbpf.particles must be at least 1");
     if (config.proposal != "prior" && config.proposal != "optimal" && config.proposal != "mh")
       throw ConfigError("rbpf.proposal must be 'prior', 'optimal' or 'mh'");
@@ -90,6 +91,10 @@ class GlmbSlam {
       throw ConfigError("rbpf.proposal 'mh' needs rbpf.weighting 'importance'");
     if (config.resampling != "always" && config.resampling != "ess")
       throw ConfigError("rbpf.resampling must be 'always' or 'ess'");
+    if (config.particle_normalizer != "sampled" && config.particle_normalizer != "factorized")
+      throw ConfigError("rbpf.particle_normalizer must be 'sampled' or 'factorized'");
+    if (config.single_particle != "sample" && config.single_particle != "mean")
+      throw ConfigError("rbpf.single_particle must be 'sample' or 'mean'");
     auto root = std::make_shared<const Node>(initial_pose, 0, nullptr);
     std::shared_ptr<const Map> empty = std::make_shared<Map>(Map::empty());  // non-const: recyclable
     const double log_w = -std::log(static_cast<double>(config.particles));
@@ -163,9 +168,7 @@ class GlmbSlam {
       }
       std::shared_ptr<Map> map = std::move(fresh_[i]);
       const GlmbUpdateStats s = updater_.update(*p.map, x, Z, k, rng, *map);
-      if (!optimal || !paper)
-        log_increment +=
-            config_.particle_normalizer == "factorized" ? s.log_normalizer_factorized : s.log_normalizer;
+      if (!optimal || !paper) log_increment += factorized_ ? s.log_normalizer_factorized : s.log_normalizer;
       Particle& out = next_[i];
       out.log_weight = p.log_weight + log_increment;
       if (!std::isfinite(out.log_weight)) out.log_weight = kLogZero;
@@ -253,6 +256,7 @@ class GlmbSlam {
   GlmbUpdater<Meas> updater_;
   OptimalProposal<Motion, Meas> proposal_;
   MhPerParent<Motion, Meas> mh_;  ///< proposal "mh"
+  bool factorized_ = false;       ///< RbpfConfig::particle_normalizer == "factorized"
   std::vector<Particle> particles_, next_;
   std::vector<std::shared_ptr<Map>> fresh_, pool_;   ///< posterior maps of this step; recyclable maps
   std::vector<std::shared_ptr<const Map>> retired_;  ///< the previous step's maps, checked for reuse

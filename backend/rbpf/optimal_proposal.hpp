@@ -54,7 +54,10 @@ class OptimalProposal {
   };
 
   OptimalProposal(const Motion& motion, const Meas& model, const RbpfConfig& config)
-      : motion_(motion), model_(model), config_(config) {}
+      : motion_(motion),
+        model_(model),
+        config_(config),
+        use_mean_(config.particles == 1 && config.single_particle == "mean") {}
 
   void build(const GlmbMap<Meas>& map, const State& x_pred, const Covariance& P_pred, const MeasurementSet& Z,
              RandomStream& rng, Result& out) const {
@@ -185,7 +188,7 @@ class OptimalProposal {
   /// Draws x ~ q (the moment-matched Gaussian, or the mixture); its mean with one particle and
   /// single_particle "mean".
   State sample(const Result& q, RandomStream& rng) const {
-    if (config_.particles == 1 && config_.single_particle == "mean") return q.mean;  // see RbpfConfig
+    if (use_mean_) return q.mean;
     if (!q.mixture) return Motion::retract(q.mean, rng.gaussian<kDim>(Tangent::Zero(), q.cov));
     double u = rng.uniform();
     std::size_t c = 0;
@@ -294,6 +297,7 @@ class OptimalProposal {
   Motion motion_;
   Meas model_;
   RbpfConfig config_;
+  bool use_mean_ = false;  ///< one particle and RbpfConfig::single_particle "mean": sample() gives the mean
 };
 
 }  // namespace glmbslam::backend

@@ -13,25 +13,19 @@
 #include "core/lie.hpp"
 #include "core/random.hpp"
 #include "glmb_brute_force.hpp"
+#include "stereo_test_support.hpp"
 
 namespace glmbslam::backend {
 namespace {
+
+using test::flipped;
+using test::kitti_calibration;
+using test::random_descriptor;
 
 using Model = StereoMeasurementModel;
 using Map = GlmbMap<Model>;
 using Updater = GlmbUpdater<Model>;
 using Z = Updater::MeasurementSet;
-
-StereoCalibration kitti_calibration() {
-  StereoCalibration c;
-  c.fx = c.fy = 718.856;
-  c.cx = 607.1928;
-  c.cy = 185.2157;
-  c.baseline = 386.1448 / 718.856;
-  c.width = 1241;
-  c.height = 376;
-  return c;
-}
 
 /// Broad noise and a dense clutter model, so that every association has a findable weight.
 StereoMeasurementConfig broad_sensor(bool use_descriptors) {
@@ -47,19 +41,6 @@ StereoMeasurementConfig broad_sensor(bool use_descriptors) {
   c.descriptor_threshold = 100.0;  // moderate log-ratios (|·| ≲ 2), so that no association becomes negligible
   c.descriptor_scale = 0.01;
   return c;
-}
-
-Descriptor256 random_descriptor(RandomStream& rng) {
-  Descriptor256 d;
-  for (auto& b : d) b = static_cast<std::uint8_t>(rng.index(256));
-  return d;
-}
-
-/// `bits` bits of d flipped.
-Descriptor256 flipped(Descriptor256 d, int bits) {
-  for (int i = 0; i < bits; ++i)
-    d[static_cast<std::size_t>(i / 8)] ^= static_cast<std::uint8_t>(1u << (i % 8));
-  return d;
 }
 
 struct Problem {

@@ -9,9 +9,13 @@
 #include "backend/glmb/glmb_update.hpp"
 #include "backend/models/stereo_measurement_model.hpp"
 #include "core/random.hpp"
+#include "stereo_test_support.hpp"
 
 namespace glmbslam::backend {
 namespace {
+
+using test::flipped;
+using test::random_descriptor;
 
 using Model = StereoMeasurementModel;
 using Map = GlmbMap<Model>;
@@ -26,19 +30,6 @@ StereoCalibration calibration() {
   c.width = 1241;
   c.height = 376;
   return c;
-}
-
-Descriptor256 random_descriptor(RandomStream& rng) {
-  Descriptor256 d;
-  for (auto& b : d) b = static_cast<std::uint8_t>(rng.index(256));
-  return d;
-}
-
-/// `bits` bits of d flipped.
-Descriptor256 flipped(Descriptor256 d, int bits) {
-  for (int i = 0; i < bits; ++i)
-    d[static_cast<std::size_t>(i / 8)] ^= static_cast<std::uint8_t>(1u << (i % 8));
-  return d;
 }
 
 TEST(StereoAppearance, LikelihoodRatioFollowsTheHammingDistance) {

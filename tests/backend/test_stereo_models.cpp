@@ -5,20 +5,12 @@
 #include "backend/models/se3_motion.hpp"
 #include "backend/models/stereo_measurement_model.hpp"
 #include "core/random.hpp"
+#include "stereo_test_support.hpp"
 
 namespace glmbslam::backend {
 namespace {
 
-StereoCalibration kitti_calibration() {
-  StereoCalibration c;
-  c.fx = c.fy = 718.856;
-  c.cx = 607.1928;
-  c.cy = 185.2157;
-  c.baseline = 386.1448 / 718.856;
-  c.width = 1241;
-  c.height = 376;
-  return c;
-}
+using test::kitti_calibration;
 
 Pose3 random_pose(RandomStream& rng) {
   Vector6d xi;
