@@ -4,7 +4,13 @@
 //  1. x̄ = f(x⁻, u), P̄ = F_ε Q F_εᵀ + regulariser (P_x = 0 for a sampled particle).
 //  2. The highest-weight map hypotheses (proposal_hypotheses, weight ≥ proposal_min_weight; the best always).
 //  3. Per hypothesis: association hypotheses θ from the Gibbs sampler at x̄ with the pose-marginal innovation
-//     S' = H_m P H_mᵀ + H_x P̄ H_xᵀ + R; weight W = ω_h Π_i η_i(θ_i) (births are not used in the proposal).
+//     S' = H_m P H_mᵀ + H_x P̄ H_xᵀ + R; weight W = ω_h Π_i η_i(θ_i). With rbpf.proposal_births (always, or
+//     empty_view: when no mapped landmark is in view) the map's birth candidates (the adaptive-birth
+//     Bernoullis the coming update creates from the previous scan, GlmbMap::births) are extra rows with the
+//     η of a birth in the update (digest 0.2): not born 1 − r_B, born and missed r_B (1 − p_D), born and
+//     detected r_B p_D N(z_j; ẑ, S')/κ(z_j); a birth that gates with no measurement only multiplies every W
+//     by 1 − r_B p_D (marginalised as in the update). At step 1 after GlmbSlam::initial_scan the map is
+//     empty and these rows are what ties x_1 to the known x_0 (without them x_1 is a draw from the prior).
 //  4. Per (h, θ): the FastSLAM-2.0 Gaussian by partitioned KF updates of (x̄, P̄) with every detection of θ,
 //     relinearised up to ipl_iterations times (paper 003 Algorithm 1, first-order), stopping when the KL
 //     divergence between successive iterates is below ipl_tolerance.
@@ -12,6 +18,7 @@
 // log Σ W (over every association hypothesis found) is Eq. 33's marginal, used by the "paper" weighting.
 #include <algorithm>
 #include <cmath>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -22,6 +29,7 @@
 #include "backend/glmb/glmb_map.hpp"
 #include "backend/glmb/llt_solve.hpp"
 #include "backend/rbpf/rbpf_config.hpp"
+#include "core/error.hpp"
 #include "core/gaussian.hpp"
 #include "core/log_math.hpp"
 #include "core/random.hpp"
@@ -57,7 +65,8 @@ class OptimalProposal {
       : motion_(motion),
         model_(model),
         config_(config),
-        use_mean_(config.particles == 1 && config.single_particle == "mean") {}
+        use_mean_(config.particles == 1 && config.single_particle == "mean"),
+        births_(parse_births(config.proposal_births)) {}
 
   void build(const GlmbMap<Meas>& map, const State& x_pred, const Covariance& P_pred, const MeasurementSet& Z,
              RandomStream& rng, Result& out) const {
@@ -70,44 +79,49 @@ class OptimalProposal {
     constexpr int kPos = decltype(Meas::position(std::declval<State>()))::RowsAtCompileTime;
     const double pos_sigma = std::sqrt(std::max(0.0, P_pred.template topLeftCorner<kPos, kPos>().trace()));
     map.find_active(model_, x_pred, config_.glmb.fov_margin + 3.0 * pos_sigma, ws.active, &ws.track_pd);
-    // rows per active track (no births)
-    ws.source_of_track.assign(map.tracks.size(), -1);
+    // rows: the active tracks, then (with proposal_births) the birth candidates that gate with a measurement
+    const int n_tracks = static_cast<int>(map.tracks.size());
+    ws.source_of_track.assign(n_tracks, -1);
     ws.source_begin.clear();
     ws.entry_column.clear();
     ws.entry_log_eta.clear();
     int num_active = 0;
-    for (std::size_t t = 0; t < map.tracks.size(); ++t) {
+    for (int t = 0; t < n_tracks; ++t) {
       if (!ws.active[t]) continue;
       const auto& tr = map.tracks[t];
       ws.source_of_track[t] = num_active++;
-      ws.source_begin.push_back(static_cast<int>(ws.entry_column.size()));
       const double ps = model_.survival_probability(x_pred, tr.mean);
-      const double pd = ws.track_pd[t];  // p_D(tr.mean | x̄), from find_active
-      if (ps < 1.0) push(ws, AssociationTable::kDead, std::log1p(-ps));
-      if (pd < 1.0) push(ws, AssociationTable::kMissed, std::log(ps) + std::log1p(-pd));
-      if (pd <= 0.0) continue;
-      typename Meas::PoseJacobian Hx;
-      typename Meas::LandmarkJacobian Hm;
-      const Measurement zhat = model_.linearize(x_pred, tr.mean, &Hx, &Hm);
-      const typename Meas::MeasurementCovariance S =
-          Hm * tr.cov * Hm.transpose() + Hx * P_pred * Hx.transpose() + model_.noise();
-      const Eigen::LLT<typename Meas::MeasurementCovariance> llt(S);
-      if (llt.info() != Eigen::Success) continue;
-      double log_det = 0.0;
-      for (int i = 0; i < Meas::kMeasDim; ++i) log_det += std::log(llt.matrixLLT()(i, i));
-      const double log_norm = -0.5 * Meas::kMeasDim * std::log(2.0 * M_PI) - log_det;
-      const double base = std::log(ps) + std::log(pd);
-      for (int j = 0; j < M; ++j) {
-        const Measurement nu = model_.residual(Z[j], zhat);
-        const double d2 = llt.matrixL().solve(nu).squaredNorm();
-        if (!(d2 <= gate)) continue;
-        push(ws, j + 1, base + log_norm - 0.5 * d2 - model_.log_clutter_intensity(Z[j]));
+      // p_D(tr.mean | x̄) from find_active
+      add_row(ws, x_pred, P_pred, Z, gate, tr.mean, tr.cov, std::log(ps),
+              ps < 1.0 ? std::log1p(-ps) : kLogZero, ws.track_pd[t]);
+    }
+    ws.birth_source.clear();
+    double log_birth_factor = 0.0;  // Π (1 − r_B p_D) over the births that gate with no measurement
+    if (births_ == Births::kAlways || (births_ == Births::kEmptyView && num_active == 0)) {
+      for (std::size_t b = 0; b < map.births.size(); ++b) {
+        const auto& bc = map.births[b];
+        const double log_r = bc.log_existence;
+        const double log_1mr = log_r < 0.0 ? std::log(-std::expm1(log_r)) : kLogZero;
+        const int first = static_cast<int>(ws.entry_column.size());
+        if (add_row(ws, x_pred, P_pred, Z, gate, bc.mean, bc.cov, log_r, log_1mr,
+                    model_.detection_probability(x_pred, bc.mean))) {
+          ws.birth_source.push_back(static_cast<int>(b));
+          continue;
+        }
+        double f = kLogZero;
+        for (int e = first; e < static_cast<int>(ws.entry_column.size()); ++e)
+          f = log_add(f, ws.entry_log_eta[e]);
+        log_birth_factor += f;
+        ws.entry_column.resize(first);
+        ws.entry_log_eta.resize(first);
+        ws.source_begin.pop_back();
       }
     }
+    const int num_sources = num_active + static_cast<int>(ws.birth_source.size());
     ws.source_begin.push_back(static_cast<int>(ws.entry_column.size()));
     // the sampler's rows, prepared once and shared by the chosen map hypotheses
     ws.sources.reset(M);
-    for (int s = 0; s < num_active; ++s) {
+    for (int s = 0; s < num_sources; ++s) {
       for (int e = ws.source_begin[s]; e < ws.source_begin[s + 1]; ++e)
         ws.sources.add(ws.entry_column[e], ws.entry_log_eta[e]);
       ws.sources.end_row();
@@ -129,6 +143,10 @@ class OptimalProposal {
         ws.row_track.push_back(static_cast<int>(t));
         ws.row_source.push_back(s);
       }
+      for (std::size_t b = 0; b < ws.birth_source.size(); ++b) {  // landmark id n_tracks + birth index
+        ws.row_track.push_back(n_tracks + ws.birth_source[b]);
+        ws.row_source.push_back(num_active + static_cast<int>(b));
+      }
       const int rows = static_cast<int>(ws.row_source.size());
       ws.samples.clear();
       const int count =
@@ -139,7 +157,7 @@ class OptimalProposal {
         const int* gamma = ws.samples.data() + static_cast<std::size_t>(c) * rows;
         const double lw = log_weight(ws, gamma, rows);
         if (lw == kLogZero) continue;
-        ws.cand_log_w.push_back(h.log_weight + lw);
+        ws.cand_log_w.push_back(h.log_weight + log_birth_factor + lw);
         ws.cand_begin.push_back(static_cast<int>(ws.cand_pairs.size()));
         for (int i = 0; i < rows; ++i)
           if (gamma[i] > 0) ws.cand_pairs.emplace_back(ws.row_track[i], gamma[i] - 1);
@@ -212,9 +230,10 @@ class OptimalProposal {
   struct Workspace {
     std::vector<char> active;
     std::vector<int> source_of_track, source_begin, entry_column, row_track, row_source, samples, cand_begin,
-        order;
+        order, birth_source;  ///< birth_source: the birth candidates with a row (index into GlmbMap::births)
     std::vector<double> entry_log_eta, cand_log_w, track_pd;
-    std::vector<std::pair<int, int>> cand_pairs;
+    std::vector<std::pair<int, int>>
+        cand_pairs;            ///< (landmark id: track index, or n_tracks + birth; z index)
     AssociationTable sources;  ///< one row per active track
     GibbsWorkspace gibbs;
   };
@@ -238,6 +257,46 @@ class OptimalProposal {
   static void push(Workspace& ws, int column, double log_eta) {
     ws.entry_column.push_back(column);
     ws.entry_log_eta.push_back(log_eta);
+  }
+
+  enum class Births { kNever, kEmptyView, kAlways };
+  static Births parse_births(const std::string& s) {
+    if (s == "never") return Births::kNever;
+    if (s == "empty_view") return Births::kEmptyView;
+    if (s == "always") return Births::kAlways;
+    throw ConfigError("rbpf.proposal_births must be 'never', 'empty_view' or 'always'");
+  }
+
+  /// Opens a row of η for a landmark N(mean, cov) that exists with probability exp(log_exist) (p_S, or r_B
+  /// for a birth): dead / not born, missed, and detected by each z_j inside the gate with the pose-marginal
+  /// innovation S' = H_m P H_mᵀ + H_x P̄ H_xᵀ + R (digest 0.2 and 0.5 step 3). Returns true if some z_j gated.
+  bool add_row(Workspace& ws, const State& x_pred, const Covariance& P_pred, const MeasurementSet& Z,
+               double gate, const typename Meas::Landmark& mean, const typename Meas::LandmarkCovariance& cov,
+               double log_exist, double log_not_exist, double pd) const {
+    ws.source_begin.push_back(static_cast<int>(ws.entry_column.size()));
+    if (log_not_exist > kLogZero) push(ws, AssociationTable::kDead, log_not_exist);
+    if (pd < 1.0) push(ws, AssociationTable::kMissed, log_exist + std::log1p(-pd));
+    if (pd <= 0.0) return false;
+    typename Meas::PoseJacobian Hx;
+    typename Meas::LandmarkJacobian Hm;
+    const Measurement zhat = model_.linearize(x_pred, mean, &Hx, &Hm);
+    const typename Meas::MeasurementCovariance S =
+        Hm * cov * Hm.transpose() + Hx * P_pred * Hx.transpose() + model_.noise();
+    const Eigen::LLT<typename Meas::MeasurementCovariance> llt(S);
+    if (llt.info() != Eigen::Success) return false;
+    double log_det = 0.0;
+    for (int i = 0; i < Meas::kMeasDim; ++i) log_det += std::log(llt.matrixLLT()(i, i));
+    const double log_norm = -0.5 * Meas::kMeasDim * std::log(2.0 * M_PI) - log_det;
+    const double base = log_exist + std::log(pd);
+    bool gated = false;
+    for (std::size_t j = 0; j < Z.size(); ++j) {
+      const Measurement nu = model_.residual(Z[j], zhat);
+      const double d2 = llt.matrixL().solve(nu).squaredNorm();
+      if (!(d2 <= gate)) continue;
+      push(ws, static_cast<int>(j) + 1, base + log_norm - 0.5 * d2 - model_.log_clutter_intensity(Z[j]));
+      gated = true;
+    }
+    return gated;
   }
 
   static double kl_divergence(const State& m0, const Covariance& S0, const State& m1, const Covariance& S1) {
@@ -269,12 +328,15 @@ class OptimalProposal {
       State mu = x_pred;
       Covariance Sig = P_pred;
       for (int k = begin; k < end; ++k) {
-        const auto& tr = map.tracks[ws.cand_pairs[k].first];
+        const int id = ws.cand_pairs[k].first;
+        const int n_tracks = static_cast<int>(map.tracks.size());
+        const auto& mean = id < n_tracks ? map.tracks[id].mean : map.births[id - n_tracks].mean;
+        const auto& cov = id < n_tracks ? map.tracks[id].cov : map.births[id - n_tracks].cov;
         const Measurement& z = Z[ws.cand_pairs[k].second];
         typename Meas::PoseJacobian A;
         typename Meas::LandmarkJacobian Hm;
-        const Measurement zhat = model_.linearize(lin, tr.mean, &A, &Hm);
-        const typename Meas::MeasurementCovariance Omega = Hm * tr.cov * Hm.transpose() + model_.noise();
+        const Measurement zhat = model_.linearize(lin, mean, &A, &Hm);
+        const typename Meas::MeasurementCovariance Omega = Hm * cov * Hm.transpose() + model_.noise();
         const Measurement nu = model_.residual(z, zhat) - A * Motion::local(mu, lin);
         const typename Meas::MeasurementCovariance S = A * Sig * A.transpose() + Omega;
         const Eigen::LLT<typename Meas::MeasurementCovariance> llt(S);
@@ -298,6 +360,7 @@ class OptimalProposal {
   Meas model_;
   RbpfConfig config_;
   bool use_mean_ = false;  ///< one particle and RbpfConfig::single_particle "mean": sample() gives the mean
+  Births births_ = Births::kNever;  ///< RbpfConfig::proposal_births
 };
 
 }  // namespace glmbslam::backend

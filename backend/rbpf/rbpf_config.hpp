@@ -27,6 +27,10 @@ struct RbpfConfig {
   int ipl_iterations = 5;             ///< relinearisations of the FastSLAM-2.0 Gaussian (003 Algorithm 1)
   double ipl_tolerance = 1e-3;        ///< KL divergence at which the relinearisation stops
   double proposal_gate_threshold = 0.0;  ///< χ² gate with the pose-marginal S' (≤ 0: use glmb.gate_threshold)
+  /// Birth candidates (GlmbMap::births: the previous scan's adaptive-birth Bernoullis) as extra rows of the
+  /// proposal's association sampler, with the update's η of a birth: "never" (paper 000: tracks only),
+  /// "empty_view" (only when no mapped landmark is in view of x̄, e.g. step 1 after initial_scan) or "always"
+  std::string proposal_births = "never";
   /// Ĝ(x) in the particle weight: "sampled" (the sum over the Gibbs sampler's children, paper 000) or
   /// "factorized" (GlmbUpdateStats::log_normalizer_factorized: no sampler noise)
   std::string particle_normalizer = "sampled";
