@@ -173,13 +173,43 @@ VoEstimate StereoVisualOdometry::track(const StereoFrameFeatures& frame) {
     return finish(fallback(VoStatus::kNoFeatures));
   }
 
-  // Guided matching with the constant-velocity prediction; wide window if it fails or the velocity is
-  // unknown.
+  // Guided matching with the constant-velocity prediction, then EPnP + RANSAC on (reference 3D point, current
+  // left pixel). The wide window is used when the velocity is unknown, and tried again when the narrow one
+  // finds too few matches or matches that PnP rejects (a sharp turn moves the features beyond the narrow
+  // window, which then holds mostly wrong candidates).
   const Pose3 T_pred = T_ref_prev_ * velocity_;
+  const cv::Matx33d K(camera_.fx, 0, camera_.cx, 0, camera_.fy, camera_.cy, 0, 0, 1);
   std::vector<Match> matches;
-  if (velocity_known_) matches = guided_match(frame, T_pred, config_.search_radius_px);
-  if (static_cast<int>(matches.size()) < config_.min_matches) {
-    matches = guided_match(frame, T_pred, config_.wide_search_radius_px);
+  cv::Mat rvec, tvec;
+  std::vector<int> pnp_inliers;
+  bool ok = false;
+  for (int attempt = velocity_known_ ? 0 : 1; attempt < 2 && !ok; ++attempt) {
+    const double radius = attempt == 0 ? config_.search_radius_px : config_.wide_search_radius_px;
+    matches = guided_match(frame, T_pred, radius);
+    if (static_cast<int>(matches.size()) < config_.min_matches) continue;
+    std::vector<cv::Point3f> object;
+    std::vector<cv::Point2f> image;
+    object.reserve(matches.size());
+    image.reserve(matches.size());
+    for (const Match& m : matches) {
+      const Eigen::Vector3d& X = ref_.measurements[static_cast<std::size_t>(m.ref)].point;
+      object.emplace_back(static_cast<float>(X.x()), static_cast<float>(X.y()), static_cast<float>(X.z()));
+      image.push_back(frame.left.keypoints[static_cast<std::size_t>(m.cur)].pt);
+    }
+    pnp_inliers.clear();
+    try {
+      ok = cv::solvePnPRansac(object, image, K, cv::noArray(), rvec, tvec, false, config_.ransac_iterations,
+                              static_cast<float>(config_.ransac_reprojection_px), config_.ransac_confidence,
+                              pnp_inliers, cv::SOLVEPNP_EPNP);
+    } catch (const cv::Exception& ex) {
+      spdlog::debug("vo: frame {}: solvePnPRansac failed: {}", k, ex.what());
+      ok = false;
+    }
+    ok = ok && static_cast<int>(pnp_inliers.size()) >= config_.min_inliers;
+    if (!ok && attempt == 0) {
+      spdlog::debug("vo: frame {}: PnP kept {} of {} matches in the narrow window, trying the wide one", k,
+                    pnp_inliers.size(), matches.size());
+    }
   }
   if (static_cast<int>(matches.size()) < config_.min_matches) {
     spdlog::warn("vo: frame {}: {} temporal matches → constant-velocity fallback", k, matches.size());
@@ -188,30 +218,7 @@ VoEstimate StereoVisualOdometry::track(const StereoFrameFeatures& frame) {
     set_reference(frame);
     return finish(e);
   }
-
-  // EPnP + RANSAC on (reference 3D point, current left pixel).
-  std::vector<cv::Point3f> object;
-  std::vector<cv::Point2f> image;
-  object.reserve(matches.size());
-  image.reserve(matches.size());
-  for (const Match& m : matches) {
-    const Eigen::Vector3d& X = ref_.measurements[static_cast<std::size_t>(m.ref)].point;
-    object.emplace_back(static_cast<float>(X.x()), static_cast<float>(X.y()), static_cast<float>(X.z()));
-    image.push_back(frame.left.keypoints[static_cast<std::size_t>(m.cur)].pt);
-  }
-  const cv::Matx33d K(camera_.fx, 0, camera_.cx, 0, camera_.fy, camera_.cy, 0, 0, 1);
-  cv::Mat rvec, tvec;
-  std::vector<int> pnp_inliers;
-  bool ok = false;
-  try {
-    ok = cv::solvePnPRansac(object, image, K, cv::noArray(), rvec, tvec, false, config_.ransac_iterations,
-                            static_cast<float>(config_.ransac_reprojection_px), config_.ransac_confidence,
-                            pnp_inliers, cv::SOLVEPNP_EPNP);
-  } catch (const cv::Exception& ex) {
-    spdlog::debug("vo: frame {}: solvePnPRansac failed: {}", k, ex.what());
-    ok = false;
-  }
-  if (!ok || static_cast<int>(pnp_inliers.size()) < config_.min_inliers) {
+  if (!ok) {
     spdlog::warn("vo: frame {}: PnP kept {} of {} matches → constant-velocity fallback", k,
                  pnp_inliers.size(), matches.size());
     VoEstimate e = fallback(VoStatus::kTooFewInliers);

@@ -5,14 +5,16 @@
 namespace glmbslam::app {
 
 std::vector<int> select_measurements(const frontend::StereoMeasurementList& measurements,
-                                     const SelectionGrid& grid, double min_depth, double max_depth,
-                                     int max_count, const std::vector<char>& preferred) {
+                                     const SelectionGrid& grid, const SelectionRules& rules,
+                                     const std::vector<char>& preferred) {
+  const int max_count = rules.max_count;
   const int cells = grid.columns * grid.rows;
   std::vector<std::vector<int>> per_cell(static_cast<std::size_t>(cells));
   for (int i = 0; i < static_cast<int>(measurements.size()); ++i) {
     const auto& m = measurements[static_cast<std::size_t>(i)];
     const double depth = m.point.z();
-    if (!(depth >= min_depth && depth <= max_depth) || !m.z.allFinite()) continue;
+    if (!(depth >= rules.min_depth && depth <= rules.max_depth) || !m.z.allFinite()) continue;
+    if (m.octave > rules.max_octave) continue;
     const int cx = std::clamp(static_cast<int>(m.z.x() / grid.width * grid.columns), 0, grid.columns - 1);
     const int cy = std::clamp(static_cast<int>(m.z.y() / grid.height * grid.rows), 0, grid.rows - 1);
     per_cell[static_cast<std::size_t>(cy * grid.columns + cx)].push_back(i);

@@ -38,6 +38,7 @@ void load_pipeline(ConfigNode node, PipelineSettings& c) {
   node.read_in_range("max_measurements", c.max_measurements, 1, 100000);
   node.read_in_range("grid_columns", c.grid_columns, 1, 1000);
   node.read_in_range("grid_rows", c.grid_rows, 1, 1000);
+  node.read_in_range("max_octave", c.max_octave, 0, 31);
   node.read("prefer_tracked", c.prefer_tracked);
   node.read("control_excludes_selected", c.control_excludes_selected);
   node.read("overlap_frontend", c.overlap_frontend);

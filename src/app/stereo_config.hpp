@@ -22,6 +22,9 @@ struct PipelineSettings {
   int max_measurements = 150;  ///< stereo measurements handed to the backend per frame (spread over a grid)
   int grid_columns = 10;       ///< selection grid over the image: columns …
   int grid_rows = 4;           ///< … and rows; each cell contributes its strongest measurements in turn
+  /// highest ORB pyramid level handed to the backend (its model has the level-0 pixel σ; see
+  /// app/measurement_selection.hpp)
+  int max_octave = 0;
   bool prefer_tracked =
       true;  ///< in each cell, first the features the VO tracked from last frame's selection
   /// The backend's control u_k, Q_k from the VO points that are not among its measurements (no double

@@ -112,6 +112,8 @@ int run_stereo(const RunOptions& options) {
   const backend::Se3Motion motion(config.motion);
   const backend::StereoMeasurementModel model(calibration, config.measurement);
   Filter filter(motion, model, config.rbpf, Pose3::Identity());
+  const SelectionRules selection_rules{config.measurement.min_depth, config.measurement.max_depth,
+                                       config.pipeline.max_octave, config.pipeline.max_measurements};
   const SelectionGrid grid{config.pipeline.grid_columns, config.pipeline.grid_rows,
                            static_cast<double>(calibration.width), static_cast<double>(calibration.height)};
 
@@ -160,9 +162,7 @@ int run_stereo(const RunOptions& options) {
                            previous_selected[static_cast<std::size_t>(prev)];
           }
         }
-        const auto chosen =
-            select_measurements(work.features.measurements, grid, config.measurement.min_depth,
-                                config.measurement.max_depth, config.pipeline.max_measurements, preferred);
+        const auto chosen = select_measurements(work.features.measurements, grid, selection_rules, preferred);
         previous_selected.assign(work.features.measurements.size(), 0);
         for (int i : chosen) previous_selected[static_cast<std::size_t>(i)] = 1;
         if (config.pipeline.control_excludes_selected) control = vo.excluding(est, previous_selected);

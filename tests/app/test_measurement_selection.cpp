@@ -32,10 +32,19 @@ SelectionGrid grid2x1() {
   return g;
 }
 
+SelectionRules rules(int max_count) {
+  SelectionRules r;
+  r.min_depth = 1.0;
+  r.max_depth = 40.0;
+  r.max_octave = 1;
+  r.max_count = max_count;
+  return r;
+}
+
 TEST(MeasurementSelection, TakesTheStrongestOfEachCellInTurnWithinTheDepthRange) {
-  const auto chosen = select_measurements(two_cells(), grid2x1(), 1.0, 40.0, 3);
+  const auto chosen = select_measurements(two_cells(), grid2x1(), rules(3));
   EXPECT_EQ(chosen, (std::vector<int>{0, 3, 1}));
-  const auto all = select_measurements(two_cells(), grid2x1(), 1.0, 40.0, 100);
+  const auto all = select_measurements(two_cells(), grid2x1(), rules(100));
   EXPECT_EQ(std::set<int>(all.begin(), all.end()), (std::set<int>{0, 1, 2, 3, 4}));  // never index 5
 }
 
@@ -43,11 +52,23 @@ TEST(MeasurementSelection, PreferredMeasurementsComeFirstInTheirCell) {
   std::vector<char> preferred(6, 0);
   preferred[2] = 1;  // the weakest of cell 0
   preferred[5] = 1;  // out of the depth range: preference does not override the range
-  const auto chosen = select_measurements(two_cells(), grid2x1(), 1.0, 40.0, 4, preferred);
+  const auto chosen = select_measurements(two_cells(), grid2x1(), rules(4), preferred);
   EXPECT_EQ(chosen, (std::vector<int>{2, 3, 0, 4}));
   // No flags and all-zero flags select the same.
-  EXPECT_EQ(select_measurements(two_cells(), grid2x1(), 1.0, 40.0, 4, std::vector<char>(6, 0)),
-            select_measurements(two_cells(), grid2x1(), 1.0, 40.0, 4));
+  EXPECT_EQ(select_measurements(two_cells(), grid2x1(), rules(4), std::vector<char>(6, 0)),
+            select_measurements(two_cells(), grid2x1(), rules(4)));
+}
+
+TEST(MeasurementSelection, SkipsKeypointsAboveTheHighestPyramidLevel) {
+  auto list = two_cells();
+  list[0].octave = 2;  // the strongest of cell 0: located to σ·1.2², coarser than the model's σ
+  list[3].octave = 1;
+  const auto chosen = select_measurements(list, grid2x1(), rules(100));
+  EXPECT_EQ(std::set<int>(chosen.begin(), chosen.end()), (std::set<int>{1, 2, 3, 4}));
+  SelectionRules level0 = rules(100);
+  level0.max_octave = 0;
+  const auto only0 = select_measurements(list, grid2x1(), level0);
+  EXPECT_EQ(std::set<int>(only0.begin(), only0.end()), (std::set<int>{1, 2, 4}));
 }
 
 }  // namespace
