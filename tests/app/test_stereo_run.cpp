@@ -130,6 +130,34 @@ TEST_F(StereoRun, WritesEveryOutputAndBeatsBoundsFromTheRendererNoise) {
   EXPECT_LT(errors[errors.size() / 2], 0.37);
 }
 
+TEST_F(StereoRun, DefaultSingleParticleMeanIsDeterministicAndWithinTheBounds) {
+  // The shipped default: one particle whose pose is the optimal-kernel proposal's mean (no draw, no
+  // resampling).
+  RunOptions a = options("single_a");
+  a.particles.reset();
+  RunOptions b = options("single_b");
+  b.particles.reset();
+  b.seed = 99;  // the Gibbs sampler's stream changes, the pose estimate must stay within the bounds
+  ASSERT_EQ(run_stereo(a), 0);
+  ASSERT_EQ(run_stereo(b), 0);
+  for (const RunOptions* o : {&a, &b}) {
+    std::ifstream in(fs::path(o->out_dir) / "metrics.json");
+    const nlohmann::json j = nlohmann::json::parse(in);
+    EXPECT_EQ(j["particles"].get<int>(), 1);
+    EXPECT_DOUBLE_EQ(j["filter"]["ess_percent"].get<double>(), 100.0);
+    EXPECT_DOUBLE_EQ(j["filter"]["resampling_percent"].get<double>(), 0.0);
+    EXPECT_LT(j["slam"]["ate"]["se3_rmse_m"].get<double>(), 0.25);  // the bound of the test above
+    EXPECT_GT(j["map"]["landmarks"].get<int>(), 50);
+  }
+  RunOptions c = options("single_c");
+  c.particles.reset();
+  ASSERT_EQ(run_stereo(c), 0);  // same seed as a: same trajectory
+  const auto ta = io::read_kitti_poses((fs::path(a.out_dir) / "trajectory.txt").string());
+  const auto tc = io::read_kitti_poses((fs::path(c.out_dir) / "trajectory.txt").string());
+  ASSERT_EQ(ta.size(), tc.size());
+  for (std::size_t i = 0; i < ta.size(); ++i) EXPECT_TRUE(ta[i].isApprox(tc[i], 1e-12)) << "frame " << i;
+}
+
 TEST_F(StereoRun, UnreadableFrameFallsBackAndKeepsOnePosePerFrame) {
   const fs::path copy = root_ / "broken";
   fs::remove_all(copy);
