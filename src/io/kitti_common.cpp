@@ -74,6 +74,19 @@ cv::Mat read_gray_image(const fs::path& file, int width, int height) {
   return img;
 }
 
+void fit_calibration_to_image(StereoCalibration& calib, const cv::Mat& first_image,
+                              const std::string& calib_path, const std::string& image_path) {
+  calib.width = first_image.cols;
+  calib.height = first_image.rows;
+  if (!(calib.cx > 0.0 && calib.cx < calib.width && calib.cy > 0.0 && calib.cy < calib.height)) {
+    throw InputError(calib_path, "principal point (" + std::to_string(calib.cx) + ", " +
+                                     std::to_string(calib.cy) + ") lies outside the " +
+                                     std::to_string(calib.width) + "x" + std::to_string(calib.height) +
+                                     " images (" + image_path +
+                                     "): the calibration does not belong to these images");
+  }
+}
+
 KeyValueFile::KeyValueFile(const std::string& path) : path_(path) {
   require_file(path, "calibration file");
   std::ifstream in(path);

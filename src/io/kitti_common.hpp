@@ -8,6 +8,8 @@
 
 #include <opencv2/core.hpp>
 
+#include "core/types.hpp"
+
 namespace glmbslam::io::detail {
 
 /// "path:line" for error messages.
@@ -34,6 +36,12 @@ void require_file(const std::filesystem::path& file, const std::string& what);
 /// Reads an 8-bit grayscale image; throws InputError naming the file if missing or unreadable, or if its size
 /// is not width×height (when width > 0).
 cv::Mat read_gray_image(const std::filesystem::path& file, int width = 0, int height = 0);
+
+/// Sets calib.width/height from the first image and checks that the calibration belongs to images of that
+/// size: the principal point must lie inside the image (a calibration of another camera or resolution usually
+/// puts it outside). Throws InputError naming `calib_path` otherwise.
+void fit_calibration_to_image(StereoCalibration& calib, const cv::Mat& first_image,
+                              const std::string& calib_path, const std::string& image_path);
 
 /// A "key: n1 n2 ..." text file (KITTI calib files). Lines whose values are not all numbers are kept as
 /// non-numeric (e.g. calib_time); asking for such a key as numbers is an error.

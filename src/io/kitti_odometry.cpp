@@ -94,9 +94,8 @@ KittiOdometryDataset::KittiOdometryDataset(const std::string& sequence_dir,
                                      " timestamps but the sequence has " +
                                      std::to_string(left_files_.size()) + " stereo images");
   }
-  const cv::Mat first = detail::read_gray_image(left_files_.front());
-  calibration_.width = first.cols;
-  calibration_.height = first.rows;
+  detail::fit_calibration_to_image(calibration_, detail::read_gray_image(left_files_.front()),
+                                   (dir / "calib.txt").string(), left_files_.front().string());
 
   ground_truth_path_ = ground_truth_path.empty() ? find_kitti_ground_truth(sequence_dir) : ground_truth_path;
   if (!ground_truth_path_.empty()) {

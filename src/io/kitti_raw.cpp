@@ -164,9 +164,9 @@ KittiRawDataset::KittiRawDataset(const std::string& drive_dir, const std::string
                                      " stereo images");
   }
   calibration_ = read_kitti_raw_calibration(kitti_raw_date_dir(drive_dir).string());
-  const cv::Mat first = detail::read_gray_image(left_files_.front());
-  calibration_.stereo.width = first.cols;
-  calibration_.stereo.height = first.rows;
+  detail::fit_calibration_to_image(calibration_.stereo, detail::read_gray_image(left_files_.front()),
+                                   (kitti_raw_date_dir(drive_dir) / "calib_cam_to_cam.txt").string(),
+                                   left_files_.front().string());
 
   std::string gt_source;
   PoseList poses;
