@@ -11,7 +11,7 @@
 # Environment:
 #   GLMBSLAM   the executable (default build/src/app/glmbslam)
 #   CONFIG     config file (default config/kitti_raw.yaml)
-#   PARTICLES  default "10"          (e.g. "1 10 50" for the real-time figures)
+#   PARTICLES  default "1 10" (the configs' default and paper 000's count; "1 10 50" for the real-time figures)
 #   SEEDS      default "0 1 2 3 4"
 #   FRAMES     optional frame range A:B
 #   THREADS    worker threads per run (default: all cores; runs are sequential so fps is end to end)
@@ -21,7 +21,7 @@ data="${1:-$root/../shared/data/kitti_raw/2011_09_26/2011_09_26_drive_0001_sync}
 out="${2:-$root/out/stereo_table}"
 bin="${GLMBSLAM:-$root/build/src/app/glmbslam}"
 config="${CONFIG:-$root/config/kitti_raw.yaml}"
-particles="${PARTICLES:-10}"
+particles="${PARTICLES:-1 10}"
 seeds="${SEEDS:-0 1 2 3 4}"
 [ -d "$data" ] || { echo "stereo_table.sh: dataset folder not found: $data" >&2; exit 2; }
 [ -x "$bin" ] || { echo "stereo_table.sh: executable not found: $bin (run scripts/build.sh)" >&2; exit 2; }
