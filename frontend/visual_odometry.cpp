@@ -39,6 +39,32 @@ StereoVisualOdometry::StereoVisualOdometry(const StereoCamera& camera, const VoC
                                            std::vector<double> scales)
     : camera_(camera), config_(config), scales_(std::move(scales)) {}
 
+bool StereoVisualOdometry::pnp_ransac(const StereoFrameFeatures& frame, const std::vector<Match>& matches,
+                                      std::size_t k, cv::Mat& rvec, cv::Mat& tvec,
+                                      std::vector<int>& inliers) const {
+  std::vector<cv::Point3f> object;
+  std::vector<cv::Point2f> image;
+  object.reserve(matches.size());
+  image.reserve(matches.size());
+  for (const Match& m : matches) {
+    const Eigen::Vector3d& X = ref_.measurements[static_cast<std::size_t>(m.ref)].point;
+    object.emplace_back(static_cast<float>(X.x()), static_cast<float>(X.y()), static_cast<float>(X.z()));
+    image.push_back(frame.left.keypoints[static_cast<std::size_t>(m.cur)].pt);
+  }
+  const cv::Matx33d K(camera_.fx, 0, camera_.cx, 0, camera_.fy, camera_.cy, 0, 0, 1);
+  inliers.clear();
+  bool ok = false;
+  try {
+    ok = cv::solvePnPRansac(object, image, K, cv::noArray(), rvec, tvec, false, config_.ransac_iterations,
+                            static_cast<float>(config_.ransac_reprojection_px), config_.ransac_confidence,
+                            inliers, cv::SOLVEPNP_EPNP);
+  } catch (const cv::Exception& ex) {
+    spdlog::debug("vo: frame {}: solvePnPRansac failed: {}", k, ex.what());
+    ok = false;
+  }
+  return ok && static_cast<int>(inliers.size()) >= config_.min_inliers;
+}
+
 VoEstimate StereoVisualOdometry::fallback(VoStatus status) {
   VoEstimate e;
   e.status = status;
@@ -178,7 +204,6 @@ VoEstimate StereoVisualOdometry::track(const StereoFrameFeatures& frame) {
   // finds too few matches or matches that PnP rejects (a sharp turn moves the features beyond the narrow
   // window, which then holds mostly wrong candidates).
   const Pose3 T_pred = T_ref_prev_ * velocity_;
-  const cv::Matx33d K(camera_.fx, 0, camera_.cx, 0, camera_.fy, camera_.cy, 0, 0, 1);
   std::vector<Match> matches;
   cv::Mat rvec, tvec;
   std::vector<int> pnp_inliers;
@@ -187,25 +212,7 @@ VoEstimate StereoVisualOdometry::track(const StereoFrameFeatures& frame) {
     const double radius = attempt == 0 ? config_.search_radius_px : config_.wide_search_radius_px;
     matches = guided_match(frame, T_pred, radius);
     if (static_cast<int>(matches.size()) < config_.min_matches) continue;
-    std::vector<cv::Point3f> object;
-    std::vector<cv::Point2f> image;
-    object.reserve(matches.size());
-    image.reserve(matches.size());
-    for (const Match& m : matches) {
-      const Eigen::Vector3d& X = ref_.measurements[static_cast<std::size_t>(m.ref)].point;
-      object.emplace_back(static_cast<float>(X.x()), static_cast<float>(X.y()), static_cast<float>(X.z()));
-      image.push_back(frame.left.keypoints[static_cast<std::size_t>(m.cur)].pt);
-    }
-    pnp_inliers.clear();
-    try {
-      ok = cv::solvePnPRansac(object, image, K, cv::noArray(), rvec, tvec, false, config_.ransac_iterations,
-                              static_cast<float>(config_.ransac_reprojection_px), config_.ransac_confidence,
-                              pnp_inliers, cv::SOLVEPNP_EPNP);
-    } catch (const cv::Exception& ex) {
-      spdlog::debug("vo: frame {}: solvePnPRansac failed: {}", k, ex.what());
-      ok = false;
-    }
-    ok = ok && static_cast<int>(pnp_inliers.size()) >= config_.min_inliers;
+    ok = pnp_ransac(frame, matches, k, rvec, tvec, pnp_inliers);
     if (!ok && attempt == 0) {
       spdlog::debug("vo: frame {}: PnP kept {} of {} matches in the narrow window, trying the wide one", k,
                     pnp_inliers.size(), matches.size());

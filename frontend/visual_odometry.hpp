@@ -76,6 +76,10 @@ class StereoVisualOdometry {
 
   std::vector<Match> guided_match(const StereoFrameFeatures& frame, const Pose3& T_ref_cur,
                                   double radius) const;
+  /// EPnP + RANSAC on (reference 3D point, current left pixel) of `matches`: true if it succeeds with at
+  /// least min_inliers inliers (rvec, tvec: the current camera in the reference frame, OpenCV convention).
+  bool pnp_ransac(const StereoFrameFeatures& frame, const std::vector<Match>& matches, std::size_t k,
+                  cv::Mat& rvec, cv::Mat& tvec, std::vector<int>& inliers) const;
   VoEstimate fallback(VoStatus status);
   void set_reference(const StereoFrameFeatures& frame);
   bool repeated_image(const StereoFrameFeatures& frame);

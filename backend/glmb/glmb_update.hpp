@@ -215,9 +215,8 @@ class GlmbUpdater {
     // total mass of each row (log Σ_e η_e), for the factorised normaliser
     ws.source_mass.resize(static_cast<std::size_t>(n_sources));
     for (int s = 0; s < n_sources; ++s) {
-      double f = kLogZero;
-      for (int e = ws.source_begin[s]; e < ws.source_begin[s + 1]; ++e) f = log_add(f, ws.entry_log_eta[e]);
-      ws.source_mass[static_cast<std::size_t>(s)] = f;
+      ws.source_mass[static_cast<std::size_t>(s)] = log_sum_exp(
+          ws.entry_log_eta.begin() + ws.source_begin[s], ws.entry_log_eta.begin() + ws.source_begin[s + 1]);
     }
     ws.parent_mass.clear();
 

@@ -108,10 +108,7 @@ class OptimalProposal {
           ws.birth_source.push_back(static_cast<int>(b));
           continue;
         }
-        double f = kLogZero;
-        for (int e = first; e < static_cast<int>(ws.entry_column.size()); ++e)
-          f = log_add(f, ws.entry_log_eta[e]);
-        log_birth_factor += f;
+        log_birth_factor += log_sum_exp(ws.entry_log_eta.begin() + first, ws.entry_log_eta.end());
         ws.entry_column.resize(first);
         ws.entry_log_eta.resize(first);
         ws.source_begin.pop_back();

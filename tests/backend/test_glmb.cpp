@@ -33,6 +33,25 @@ Track<Model> make_track(int step, int index, double x, double y, double var) {
   return Track<Model>{Label{step, index}, Eigen::Vector2d(x, y), Eigen::Matrix2d::Identity() * var};
 }
 
+BirthCandidate<Model> make_birth(int step, int index, double x, double y, double var, double existence) {
+  BirthCandidate<Model> b;
+  b.label = Label{step, index};
+  b.mean = Eigen::Vector2d(x, y);
+  b.cov = Eigen::Matrix2d::Identity() * var;
+  b.log_existence = std::log(existence);
+  return b;
+}
+
+/// Update settings for comparisons with the enumeration: enough sweeps, nothing pruned or capped.
+GlmbConfig enumeration_config(double gate_threshold) {
+  GlmbConfig config;
+  config.gate_threshold = gate_threshold;
+  config.gibbs_samples = 20000;
+  config.prune_threshold = 0.0;
+  config.max_hypotheses = 100000;
+  return config;
+}
+
 TEST(Innovation, EkfUpdateMatchesClosedForm) {
   const Model model(small_sensor());
   const Pose2 x(0, 0, 0);
@@ -66,24 +85,15 @@ TEST(GlmbUpdate, MatchesBruteForceEnumeration) {
   sensor.p_detect_inside = 0.6;
   sensor.p_survive_inside = 0.7;
   const Model model(sensor);
-  GlmbConfig config;
-  config.gate_threshold = 1e12;  // no gating, so brute force and sampler see the same table
-  config.gibbs_samples = 20000;
-  config.prune_threshold = 0.0;
-  config.max_hypotheses = 100000;
-  const Updater updater(model, config);
+  // no gating, so brute force and sampler see the same table
+  const Updater updater(model, enumeration_config(1e12));
   Map prior;
   prior.tracks.push_back(make_track(0, 0, 4.0, 1.0, 0.05));   // in view
   prior.tracks.push_back(make_track(0, 1, 5.0, -1.5, 0.08));  // in view
   prior.tracks.push_back(make_track(0, 2, -6.0, 0.0, 0.05));  // behind the sensor: passive
   prior.hypotheses.push_back(Hypothesis{std::log(0.6), {0, 1, 2}});
   prior.hypotheses.push_back(Hypothesis{std::log(0.4), {0, 2}});
-  BirthCandidate<Model> b;
-  b.label = Label{1, 0};
-  b.mean = Eigen::Vector2d(3.0, 3.0);
-  b.cov = Eigen::Matrix2d::Identity() * 0.02;
-  b.log_existence = std::log(0.4);
-  prior.births.push_back(b);
+  prior.births.push_back(make_birth(1, 0, 3.0, 3.0, 0.02, 0.4));
   const Pose2 x(0.1, 0.0, 0.05);
   Z z;
   z.push_back(model.predict(x, Eigen::Vector2d(4.05, 0.95)));
@@ -109,24 +119,15 @@ TEST(GlmbUpdate, FactorizedNormalizerIsExactWithoutSharedMeasurements) {
   RangeBearingConfig sensor = small_sensor();
   sensor.clutter_rate = 1.0;
   const Model model(sensor);
-  GlmbConfig config;
-  config.gate_threshold = 13.8;  // 1 − 1e-3 for 2 dof: the landmarks below are tens of σ apart
-  config.gibbs_samples = 20000;
-  config.prune_threshold = 0.0;
-  config.max_hypotheses = 100000;
-  const Updater updater(model, config);
+  // gate 1 − 1e-3 for 2 dof: the landmarks below are tens of σ apart
+  const Updater updater(model, enumeration_config(13.8));
   Map prior;
   prior.tracks.push_back(make_track(0, 0, 4.0, 1.0, 0.01));
   prior.tracks.push_back(make_track(0, 1, 5.0, -1.5, 0.01));
   prior.tracks.push_back(make_track(0, 2, 2.0, 3.0, 0.01));
   prior.hypotheses.push_back(Hypothesis{std::log(0.7), {0, 1, 2}});
   prior.hypotheses.push_back(Hypothesis{std::log(0.3), {0, 2}});
-  BirthCandidate<Model> b;
-  b.label = Label{1, 0};
-  b.mean = Eigen::Vector2d(6.0, 3.0);
-  b.cov = Eigen::Matrix2d::Identity() * 0.01;
-  b.log_existence = std::log(0.3);
-  prior.births.push_back(b);
+  prior.births.push_back(make_birth(1, 0, 6.0, 3.0, 0.01, 0.3));
   const Pose2 x(0.0, 0.0, 0.0);
   Z z;
   z.push_back(model.predict(x, Eigen::Vector2d(4.02, 0.97)));
