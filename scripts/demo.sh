@@ -6,7 +6,7 @@
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 "$root/scripts/install_deps.sh"
-"$root/scripts/build.sh" > "${TMPDIR:-/tmp}/glmbslam_build.log" 2>&1 || { tail -50 "${TMPDIR:-/tmp}/glmbslam_build.log"; exit 1; }
+"$root/scripts/build.sh" -DGLMBSLAM_BUILD_TESTS=OFF -DGLMBSLAM_BUILD_BENCH=OFF > "${TMPDIR:-/tmp}/glmbslam_build.log" 2>&1 || { tail -50 "${TMPDIR:-/tmp}/glmbslam_build.log"; exit 1; }
 build="${GLMBSLAM_BUILD_DIR:-$root/build}"
 glmbslam="$build/src/app/glmbslam"
 out="${1:-$root/out/demo}"

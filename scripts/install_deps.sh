@@ -1,11 +1,19 @@
 #!/usr/bin/env bash
-# Installs every Debian package glmbslam needs to build, test and plot. Idempotent.
+# Installs the Debian packages glmbslam needs. Idempotent.
+# Usage: scripts/install_deps.sh          build and run (what scripts/demo.sh needs)
+#        scripts/install_deps.sh --test   also what the test suite needs (scripts/test.sh, .ci/run)
 set -euo pipefail
-PKGS=(
+BUILD_PKGS=(
   build-essential cmake g++ pkg-config git
   libopencv-dev libeigen3-dev libpcl-dev libceres-dev libyaml-cpp-dev libmatio-dev
-  libcli11-dev libspdlog-dev libopenmpi-dev nlohmann-json3-dev libgtest-dev libgmock-dev libbenchmark-dev
+  libcli11-dev libspdlog-dev libopenmpi-dev nlohmann-json3-dev
 )
+# Only for the tests, benchmarks and CI stages (one package a line; keep each with a comment saying what needs it).
+TEST_PKGS=(
+  libgtest-dev libgmock-dev libbenchmark-dev  # GoogleTest suite, Google Benchmark micro-benchmarks
+)
+PKGS=("${BUILD_PKGS[@]}")
+if [ "${1:-}" = "--test" ]; then PKGS+=("${TEST_PKGS[@]}"); fi
 SUDO=""
 if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
 missing=()
