@@ -11,6 +11,7 @@ BUILD_PKGS=(
 # Only for the tests, benchmarks and CI stages (one package a line; keep each with a comment saying what needs it).
 TEST_PKGS=(
   libgtest-dev libgmock-dev libbenchmark-dev  # GoogleTest suite, Google Benchmark micro-benchmarks
+  chromium  # loads report.html headless in the report test (tests/app/test_report_html_browser.cpp)
 )
 PKGS=("${BUILD_PKGS[@]}")
 if [ "${1:-}" = "--test" ]; then PKGS+=("${TEST_PKGS[@]}"); fi
