@@ -1,0 +1,172 @@
+#!/usr/bin/env python3
+"""Comparison plots from the workflow's tidy results.csv (matplotlib, Debian's python3-matplotlib).
+
+Usage: plots.py RESULTS.csv SLAM_VS_VO.png RMSE_VS_PARTICLES.png TIME_VS_PARTICLES.png
+
+- SLAM vs VO per sequence: for every stereo dataset, the SLAM estimate of each (algorithm, N, refine) next to its
+  own VO input (the `vo.*` block of the same runs) and `glmbslam vo` when run: KITTI t_rel (left) and ATE (right),
+  mean over seeds with the standard deviation as error bar.
+- RMSE vs particle count: per dataset and algorithm, the primary error (stereo: SLAM ATE; 2D: position RMSE).
+- Time vs particle count: stereo: ms per frame end to end (1000 / fps); 2D and simulations: ms per step.
+A plot without data says so in its frame instead of being left out, so the outputs always exist.
+"""
+import csv
+import math
+import statistics
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+
+def num(v):
+    try:
+        x = float(v)
+    except (TypeError, ValueError):
+        return None
+    return x if math.isfinite(x) else None
+
+
+def stats(values):
+    v = [x for x in values if x is not None]
+    if not v:
+        return None, None
+    return statistics.fmean(v), (statistics.stdev(v) if len(v) > 1 else 0.0)
+
+
+def empty(path, text):
+    fig, ax = plt.subplots(figsize=(6, 3))
+    ax.text(0.5, 0.5, text, ha="center", va="center")
+    ax.set_axis_off()
+    fig.savefig(path, dpi=100)
+    plt.close(fig)
+
+
+def is_stereo(r):
+    return r["command"] == "run" and any(num(r.get(k)) is not None for k in ("slam.ate.se3_rmse_m",))
+
+
+def slam_vs_vo(rows, path):
+    stereo = [r for r in rows if is_stereo(r) or (r["command"] == "vo")]
+    datasets = sorted({r["dataset"] for r in stereo})
+    if not datasets:
+        empty(path, "no stereo runs in this preset")
+        return
+    metrics = [("KITTI t_rel (%)", "t_rel"), ("ATE SE(3) (m)", "ate")]
+    col = {"t_rel": ("slam.kitti.t_rel_percent", "vo.kitti.t_rel_percent", "kitti.t_rel_percent"),
+           "ate": ("slam.ate.se3_rmse_m", "vo.ate.se3_rmse_m", "ate.se3_rmse_m")}
+    fig, axes = plt.subplots(1, 2, figsize=(max(8, 2.2 * len(datasets) + 4), 4.5))
+    for ax, (label, key) in zip(axes, metrics):
+        slam_col, vo_col, vo_cmd_col = col[key]
+        series = {}  # name -> {dataset: [values]}
+        for r in stereo:
+            if r["command"] == "run":
+                name = f"SLAM {r['algorithm']} N={r['particles']}" + (
+                    f" refine {r['refine']}" if r["refine"] != "none" else "")
+                series.setdefault(name, {}).setdefault(r["dataset"], []).append(num(r.get(slam_col)))
+                if r["refine"] != "none" and num(r.get(slam_col.replace("slam.", "refined."))) is not None:
+                    series.setdefault(name + " (refined)", {}).setdefault(r["dataset"], []).append(
+                        num(r.get(slam_col.replace("slam.", "refined."))))
+                series.setdefault("its VO input", {}).setdefault(r["dataset"], []).append(num(r.get(vo_col)))
+            else:
+                series.setdefault("glmbslam vo", {}).setdefault(r["dataset"], []).append(
+                    num(r.get(vo_cmd_col)) if num(r.get(vo_cmd_col)) is not None else num(r.get(vo_col)))
+        names = sorted(series, key=lambda n: (not n.startswith("SLAM"), n))
+        width = 0.8 / max(1, len(names))
+        plotted = False
+        for i, name in enumerate(names):
+            xs, ms, ss = [], [], []
+            for j, ds in enumerate(datasets):
+                m, s = stats(series[name].get(ds, []))
+                if m is not None:
+                    xs.append(j + (i - (len(names) - 1) / 2) * width)
+                    ms.append(m)
+                    ss.append(s)
+            if xs:
+                ax.bar(xs, ms, width, yerr=ss, capsize=2, label=name)
+                plotted = True
+        ax.set_xticks(range(len(datasets)))
+        ax.set_xticklabels(datasets, rotation=30, ha="right")
+        ax.set_ylabel(label)
+        if plotted:
+            ax.legend(fontsize=7)
+        else:
+            ax.text(0.5, 0.5, "no value (runs shorter than the\nKITTI metric's 100 m segments)",
+                    ha="center", va="center", transform=ax.transAxes)
+    fig.suptitle("SLAM vs VO per sequence (mean ± std over seeds)")
+    fig.tight_layout()
+    fig.savefig(path, dpi=100)
+    plt.close(fig)
+
+
+def versus_particles(rows, path, value_of, ylabel, title):
+    curves = {}  # (dataset, command) -> {(algorithm, refine): {N: [values]}}
+    for r in rows:
+        if r["command"] == "vo":
+            continue
+        v = value_of(r)
+        if v is None:
+            continue
+        curves.setdefault((r["dataset"], r["command"]), {}).setdefault((r["algorithm"], r["refine"]), {}) \
+            .setdefault(int(r["particles"]), []).append(v)
+    panels = sorted(k for k, c in curves.items() if any(len(n) > 1 for n in c.values()))
+    if not panels:
+        empty(path, "no algorithm was run with more than one particle count")
+        return
+    cols = min(3, len(panels))
+    nrows = int(math.ceil(len(panels) / cols))
+    fig, axes = plt.subplots(nrows, cols, figsize=(5 * cols, 3.8 * nrows), squeeze=False)
+    for ax, key in zip(axes.flat, panels):
+        all_n = sorted({n for by_n in curves[key].values() for n in by_n})
+        for (alg, refine), by_n in sorted(curves[key].items()):
+            ns = sorted(by_n)
+            ms = [stats(by_n[n])[0] for n in ns]
+            ss = [stats(by_n[n])[1] for n in ns]
+            ax.errorbar(ns, ms, yerr=ss, marker="o", capsize=3,
+                        label=alg + (f" refine {refine}" if refine != "none" else ""))
+        ax.set_xscale("log")
+        ax.minorticks_off()
+        ax.set_xticks(all_n)
+        ax.set_xticklabels([str(n) for n in all_n])
+        ax.set_xlabel("particles N")
+        ax.set_ylabel(ylabel)
+        ax.set_title(f"{key[0]} ({key[1]})", fontsize=9)
+        ax.legend(fontsize=7)
+    for ax in list(axes.flat)[len(panels):]:
+        ax.set_axis_off()
+    fig.suptitle(title)
+    fig.tight_layout()
+    fig.savefig(path, dpi=100)
+    plt.close(fig)
+
+
+def error_value(r):
+    if is_stereo(r):
+        return num(r.get("slam.ate.se3_rmse_m"))
+    return num(r.get("position_rmse_m"))
+
+
+def time_value(r):
+    if is_stereo(r):
+        fps = num(r.get("timing.fps"))
+        return 1000.0 / fps if fps else None
+    return num(r.get("ms_per_step.mean"))
+
+
+def main():
+    if len(sys.argv) != 5:
+        sys.exit(__doc__)
+    with open(sys.argv[1], newline="") as f:
+        rows = list(csv.DictReader(f))
+    slam_vs_vo(rows, sys.argv[2])
+    versus_particles(rows, sys.argv[3], error_value, "error (m): stereo SLAM ATE, 2D position RMSE",
+                     "Error vs particle count (mean ± std over seeds / runs)")
+    versus_particles(rows, sys.argv[4], time_value, "ms per frame (stereo) / per step (2D)",
+                     "Time vs particle count (mean ± std)")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
