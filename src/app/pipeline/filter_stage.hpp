@@ -1,0 +1,59 @@
+#pragma once
+// Stage 3 of the stereo pipeline (filter): chooses the measurements handed to the backend, forms the
+// control from the VO and runs one step of the δ-GLMB-SLAM particle filter.
+#include <cstddef>
+#include <vector>
+
+#include "app/measurement_selection.hpp"
+#include "app/pipeline/frame_source.hpp"
+#include "app/stereo_config.hpp"
+#include "backend/models/se3_motion.hpp"
+#include "backend/models/stereo_measurement_model.hpp"
+#include "backend/rbpf/glmb_slam.hpp"
+#include "frontend/visual_odometry.hpp"
+#include "io/pcd_writer.hpp"
+
+namespace glmbslam::app {
+
+using StereoFilter = backend::GlmbSlam<backend::Se3Motion, backend::StereoMeasurementModel>;
+
+/// What the filter stage did with one frame.
+struct FilterStep {
+  StereoFilter::MeasurementSet Z;  ///< the measurements handed to the backend
+  /// Index into the frame's StereoFrameFeatures::measurements of each element of Z.
+  std::vector<int> selected;
+  backend::RelativePoseControl control;  ///< u_k, Q_k given to the backend (unused at k = 0)
+  double ms = 0.0;                       ///< backend wall time
+};
+
+class FilterStage {
+ public:
+  FilterStage(const StereoConfig& config, const StereoCalibration& calibration);
+
+  /// Frame k of the run: k = 0 is the initial scan at the known initial pose, then one filter step each.
+  const FilterStep& step(const FrameWork& work, const frontend::VoEstimate& vo_estimate,
+                         const frontend::StereoVisualOdometry& vo, std::size_t k);
+
+  const StereoFilter& filter() const { return filter_; }
+  const FilterStep& last_step() const { return step_; }
+  /// The estimated trajectory, steps 0..k (pipeline.trajectory_estimate: the sampled poses or the
+  /// Rao–Blackwellised estimates of the best particle).
+  PoseList trajectory() const;
+  /// The landmarks of the final MAP estimate, as PCD points.
+  std::vector<io::MapPoint> map_points() const;
+
+ private:
+  const StereoConfig& config_;
+  backend::Se3Motion motion_;
+  backend::StereoMeasurementModel model_;
+  StereoFilter filter_;
+  SelectionRules rules_;
+  SelectionGrid grid_;
+  std::vector<char> previous_selected_;  // per measurement of the previous frame: handed to the backend
+  FilterStep step_;
+};
+
+/// Labels (birth step, index) packed into one integer for the PCD map: birth step << 12 | index.
+std::uint64_t pack_label(const backend::Label& label);
+
+}  // namespace glmbslam::app

@@ -1,0 +1,78 @@
+#include "app/pipeline/stereo_pipeline.hpp"
+
+#include <string>
+
+#include <spdlog/spdlog.h>
+
+#include "core/progress.hpp"
+#include "core/stopwatch.hpp"
+
+namespace glmbslam::app {
+
+StereoPipeline::StereoPipeline(const io::StereoDataset& dataset, const StereoCalibration& calibration,
+                               const StereoConfig& config, std::size_t first, std::size_t last)
+    : dataset_(dataset),
+      config_(config),
+      first_(first),
+      last_(last),
+      use_backend_(config.pipeline.algorithm != "vo"),
+      frontend_(calibration, config.frontend),
+      vo_(frontend_, config.frontend.vo) {
+  if (use_backend_) filter_.emplace(config, calibration);
+}
+
+void StereoPipeline::add_stage(std::unique_ptr<PipelineStage> stage) {
+  stages_.push_back(std::move(stage));
+}
+
+void StereoPipeline::run(RunRecord& record, const std::function<bool()>& stop) {
+  const std::size_t frames = last_ - first_;
+  record.vo_poses.reserve(frames);
+  FrameSource source(dataset_, frontend_, first_, last_, config_.pipeline.overlap_frontend);
+  ProgressReporter progress(frames, "run");
+  Stopwatch wall;
+  std::size_t k = 0;
+  for (; !source.done(); ++k) {
+    if (stop && stop()) break;
+    const FrameWork work = source.next();
+    record.frontend_ms.push_back(work.frontend_ms);
+    const frontend::VoEstimate& estimate = vo_.track(work, k);
+    record.vo_ms.push_back(estimate.ms);
+    record.vo_poses.push_back(vo_.pose());
+    FrameOutcome outcome{k, work, estimate, vo_.pose()};
+    if (filter_) {
+      const FilterStep& step = filter_->step(work, estimate, vo_.odometry(), k);
+      record.backend_ms.push_back(step.ms);
+      const auto& report = filter_->filter().last_report();
+      if (k > 0) {
+        record.ess_fraction.push_back(report.ess / static_cast<double>(config_.rbpf.particles));
+        record.resampled.push_back(report.resampled);
+      }
+      outcome.filter_step = &step;
+      outcome.filter = &filter_->filter();
+      progress.update(
+          k + 1, "tracks " + std::to_string(report.tracks) + " hyp " + std::to_string(report.hypotheses));
+    } else {
+      progress.update(k + 1);
+    }
+    for (auto& stage : stages_) stage->on_frame(outcome);
+  }
+  frames_done_ = k;
+  progress.finish();
+  record.wall_s = wall.elapsed_ms() / 1000.0;
+  record.vo_fallbacks = vo_.fallbacks();
+  record.missing_frames = vo_.missing();
+  if (vo_.fallbacks() + vo_.missing() > 0) {
+    spdlog::info("VO fell back to constant velocity on {} frames ({} could not be loaded)",
+                 vo_.fallbacks() + vo_.missing(), vo_.missing());
+  }
+  if (filter_) {
+    record.slam_poses = filter_->trajectory();  // step 0 is the first frame (identity), then one per frame
+    record.map = filter_->map_points();
+  } else {
+    record.slam_poses = record.vo_poses;
+  }
+  for (auto& stage : stages_) stage->on_finish(record);
+}
+
+}  // namespace glmbslam::app

@@ -1,0 +1,34 @@
+#pragma once
+// Stage 2 of the stereo pipeline (VO): the frame-to-frame visual odometry on the frontend's features. Its
+// relative motion u_k and covariance Q_k are the backend's control; their product is vo_trajectory.txt.
+#include <cstddef>
+
+#include "app/pipeline/frame_source.hpp"
+#include "core/types.hpp"
+#include "frontend/visual_odometry.hpp"
+
+namespace glmbslam::app {
+
+class VoStage {
+ public:
+  VoStage(const frontend::StereoFrontend& frontend, const frontend::VoConfig& config);
+
+  /// Tracks frame `work` (the run's k-th frame) and accumulates the VO pose. An unreadable frame gets the
+  /// constant-velocity fallback (identity at k = 0).
+  const frontend::VoEstimate& track(const FrameWork& work, std::size_t k);
+
+  const frontend::VoEstimate& estimate() const { return estimate_; }
+  /// The accumulated VO pose T_0k of the last tracked frame.
+  const Pose3& pose() const { return pose_; }
+  const frontend::StereoVisualOdometry& odometry() const { return vo_; }
+  std::size_t fallbacks() const { return fallbacks_; }  ///< frames tracked without a VO solution
+  std::size_t missing() const { return missing_; }      ///< frames whose images could not be read
+
+ private:
+  frontend::StereoVisualOdometry vo_;
+  frontend::VoEstimate estimate_;
+  Pose3 pose_ = Pose3::Identity();
+  std::size_t fallbacks_ = 0, missing_ = 0;
+};
+
+}  // namespace glmbslam::app
