@@ -4,7 +4,8 @@
 // Outputs in --out: vo_trajectory.txt (KITTI format, one pose per frame of the range), vo_frames.csv
 // (per-frame status, matches, inliers, timings, diagonal of Q_k), metrics.json (eval blocks of
 // eval/report.hpp when ground truth exists, end-point drift, timing of each stage, status counts) and
-// vo_features.png (features of both images and the stereo matches on a sample frame). A frame whose images
+// vo_features.png (features of both images and the stereo matches on a sample frame) and report.html (the
+// interactive report, app/run_report.hpp). A frame whose images
 // cannot be loaded (missing, corrupt, wrong size) is reported and replaced by the VO's constant-velocity
 // fallback, so the trajectory keeps one pose per frame; the command fails only if no frame at all can be
 // loaded.
@@ -23,6 +24,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "app/commands.hpp"
+#include "app/run_report.hpp"
 #include "core/atomic_file.hpp"
 #include "core/config_node.hpp"
 #include "core/error.hpp"
@@ -211,11 +213,12 @@ void run_vo(const VoArgs& a) {
   j["frames"] = n;
   j["first_frame"] = first;
   std::optional<PoseList> gt;
+  std::optional<eval::TrajectoryEvaluation> evaluation;
   if (dataset->ground_truth()) {
     const PoseList& full = *dataset->ground_truth();
     gt = io::relative_to_first(PoseList(full.begin() + static_cast<std::ptrdiff_t>(first),
                                         full.begin() + static_cast<std::ptrdiff_t>(last)));
-    const eval::TrajectoryEvaluation e = eval::evaluate_trajectory(*gt, poses);
+    const eval::TrajectoryEvaluation& e = evaluation.emplace(eval::evaluate_trajectory(*gt, poses));
     j.update(eval::to_json(e));
     const double end_error = (gt->back().translation() - poses.back().translation()).norm();
     j["drift"] = {
@@ -241,7 +244,19 @@ void run_vo(const VoArgs& a) {
   j["timing"] = timing;
   j["vo_status"] = status_counts;
   eval::write_json_file((out / "metrics.json").string(), j);
-  spdlog::info("vo: wrote {} poses to {}", poses.size(), (out / "vo_trajectory.txt").string());
+  VoReportInput report{dataset->name(), first, &poses, &gt, gt ? &*evaluation : nullptr, {}, {}, {}, ""};
+  for (std::size_t k = 0; k < estimates.size(); ++k) {
+    report.measurements.push_back(measurement_counts[k]);
+    report.matches.push_back(estimates[k].matches);
+    report.inliers.push_back(estimates[k].inliers);
+  }
+  if (!a.config.empty()) {
+    std::ifstream config(a.config);
+    report.config.assign(std::istreambuf_iterator<char>(config), std::istreambuf_iterator<char>());
+  }
+  write_vo_report((out / "report.html").string(), report, j);
+  spdlog::info("vo: wrote {} poses to {}; report {}", poses.size(), (out / "vo_trajectory.txt").string(),
+               (out / "report.html").string());
 }
 
 }  // namespace

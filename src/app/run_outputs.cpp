@@ -7,6 +7,7 @@
 #include <spdlog/spdlog.h>
 #include <nlohmann/json.hpp>
 
+#include "app/run_report.hpp"
 #include "core/atomic_file.hpp"
 #include "core/stopwatch.hpp"
 #include "eval/eval_plots.hpp"
@@ -68,9 +69,12 @@ void write_run_outputs(const std::string& out_dir, const RunRecord& r, bool plot
   j["first_frame"] = r.first_frame;
   j["frames"] = r.slam_poses.size();
   std::string table;
+  std::optional<eval::TrajectoryEvaluation> slam_evaluation, vo_evaluation;
   if (r.ground_truth) {
-    const eval::TrajectoryEvaluation slam = eval::evaluate_trajectory(*r.ground_truth, r.slam_poses);
-    const eval::TrajectoryEvaluation vo = eval::evaluate_trajectory(*r.ground_truth, r.vo_poses);
+    const eval::TrajectoryEvaluation& slam =
+        slam_evaluation.emplace(eval::evaluate_trajectory(*r.ground_truth, r.slam_poses));
+    const eval::TrajectoryEvaluation& vo =
+        vo_evaluation.emplace(eval::evaluate_trajectory(*r.ground_truth, r.vo_poses));
     j["slam"] = eval::to_json(slam);
     j["vo"] = eval::to_json(vo);
     const double path = slam.path_length_m;
@@ -114,6 +118,8 @@ void write_run_outputs(const std::string& out_dir, const RunRecord& r, bool plot
                  {"vo_fallback_frames", r.vo_fallbacks},
                  {"missing_frames", r.missing_frames}};
   eval::write_json_file((dir / "metrics.json").string(), j);
+  write_run_report((dir / "report.html").string(), r, j, slam_evaluation ? &*slam_evaluation : nullptr,
+                   vo_evaluation ? &*vo_evaluation : nullptr);
 
   std::printf("\n%s", table.c_str());
   std::printf(
@@ -121,9 +127,9 @@ void write_run_outputs(const std::string& out_dir, const RunRecord& r, bool plot
       r.slam_poses.size(), r.wall_s > 0 ? frames / r.wall_s : 0.0, quantile(r.frontend_ms, 0.5),
       quantile(r.vo_ms, 0.5), quantile(r.backend_ms, 0.5), r.map.size());
   std::printf(
-      "outputs in %s:\n  trajectory   %s\n  VO           %s\n  map          %s\n  report       %s\n"
-      "  plots        %s\n",
-      dir.string().c_str(), (dir / "trajectory.txt").string().c_str(),
+      "outputs in %s:\n  report       %s  (open in a browser)\n  trajectory   %s\n  VO           %s\n"
+      "  map          %s\n  metrics      %s\n  plots        %s\n",
+      dir.string().c_str(), (dir / "report.html").string().c_str(), (dir / "trajectory.txt").string().c_str(),
       (dir / "vo_trajectory.txt").string().c_str(), (dir / "map.pcd").string().c_str(),
       (dir / "metrics.json").string().c_str(), (dir / "plots").string().c_str());
 }

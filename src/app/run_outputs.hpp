@@ -3,9 +3,11 @@
 //   trajectory.txt      SLAM estimate (KITTI format, one pose per input frame)
 //   vo_trajectory.txt   the frontend's visual odometry, accumulated (KITTI format)
 //   map.pcd             labelled landmarks of the final MAP estimate with existence probability
+//   report.html         the interactive report (eval/html_report.hpp; app/run_report.hpp): opens offline
 //   metrics.json        `slam` and `vo` evaluation blocks (when ground truth exists), `timing`, `map`,
-//   `filter` config_used.yaml    the effective configuration plots/              trajectories vs ground
-//   truth, errors, map top view (PNG)
+//                       `filter`
+//   config_used.yaml    the effective configuration
+//   plots/              trajectories vs ground truth, errors, map top view (PNG)
 #include <string>
 #include <vector>
 
@@ -27,6 +29,8 @@ struct RunRecord {
   std::vector<io::MapPoint> map;
   std::vector<double> frontend_ms, vo_ms, backend_ms;
   std::vector<double> ess_fraction;  ///< ESS / N per step
+  std::vector<int> tracks;           ///< landmarks (tracks of the best particle) after each frame, if known
+  std::optional<PoseList> refined_poses;  ///< the refined trajectory (trajectory_refined.txt), if any
   std::vector<bool> resampled;
   std::size_t vo_fallbacks = 0;
   std::size_t missing_frames = 0;

@@ -10,6 +10,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include "app/sim_report.hpp"
 #include "backend/models/range_bearing_model.hpp"
 #include "backend/models/steering_motion.hpp"
 #include "backend/models/unicycle_motion.hpp"
@@ -487,6 +488,7 @@ json run_simulation(const SimOptions& o) {
   const std::filesystem::path dir(o.out_dir);
   if (o.plots) write_plots(dir, s0, records[0], rmse_x, rmse_y, rmse_h, ospa_mean, o);
   eval::write_json_file((dir / "metrics.json").string(), m);
+  write_sim_report((dir / "report.html").string(), m, s0, records[0].estimates, records[0].final_map);
   return m;
 }
 

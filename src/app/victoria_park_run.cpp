@@ -36,6 +36,7 @@
 #include "app/run_options.hpp"
 #include "app/victoria_park_config.hpp"
 #include "app/victoria_park_data.hpp"
+#include "app/victoria_park_report.hpp"
 #include "backend/models/ackermann_motion.hpp"
 #include "backend/models/victoria_park_measurement.hpp"
 #include "backend/phd/phd_slam.hpp"
@@ -168,6 +169,9 @@ void write_outputs(const std::filesystem::path& out, const VictoriaParkConfig& c
   j["map"] = {{"landmarks", rec.map.size()}};
   j["clutter_rate"] = cfg.clutter_rate;
   eval::write_json_file((out / "metrics.json").string(), j);
+  VictoriaParkReportInput report{&gps, {}, {}, &rec.map, &err.scan_time, &err.error_m, &rec.ess, &rec.ms};
+  for (const auto& p : rec.poses) report.x.push_back(p(0)), report.y.push_back(p(1));
+  write_victoria_park_report((out / "report.html").string(), report, j);
 
   std::ostringstream traj;
   traj.precision(10);
