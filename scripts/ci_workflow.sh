@@ -30,15 +30,14 @@ stage_start=$(date +%s)
 say() { echo "== ci_workflow: $*"; }
 
 bash scripts/install_deps.sh --test
-bin="${GLMBSLAM:-$root/build/src/app/glmbslam}"
-if [ ! -x "$bin" ]; then
-  say "building glmbslam"
-  scripts/build.sh --target glmbslam > /tmp/ci_workflow_build.log 2>&1 || {
-    tail -30 /tmp/ci_workflow_build.log; exit 1; }
-fi
-say "snakemake $(snakemake --version), $(sbatch --version 2>/dev/null || echo 'no sbatch'), $(nproc) cores"
 work="${WORKFLOW_CI_DIR:-$(mktemp -d /tmp/glmbslam_workflow_ci.XXXXXX)}"
 mkdir -p "$work"
+bin="${GLMBSLAM:-$root/build/src/app/glmbslam}"
+if [ ! -x "$bin" ]; then
+  say "building glmbslam (log $work/build.log)"
+  scripts/build.sh --target glmbslam > "$work/build.log" 2>&1 || { tail -30 "$work/build.log"; exit 1; }
+fi
+say "snakemake $(snakemake --version), $(sbatch --version 2>/dev/null || echo 'no sbatch'), $(nproc) cores"
 slurm_dir="$work/slurm_cluster"
 cleanup() { [ -f "$slurm_dir/slurm.conf" ] && workflow/scripts/local_slurm.sh stop "$slurm_dir" || true; }
 trap cleanup EXIT
@@ -64,6 +63,14 @@ if grep -q "Nothing to be done" "$work/rerun.log"; then
 else
   say "FAILED: the finished workflow would run jobs again"; failures=$((failures + 1))
 fi
+for preset in paper full; do
+  if snakemake --snakefile workflow/Snakefile --config "preset=$preset" "glmbslam=$bin" "out=$work/dry" -n \
+      > "$work/dry_$preset.log" 2>&1; then
+    say "preset $preset resolves: $(grep -A9 '^Job stats' "$work/dry_$preset.log" | awk '$1 == "total" {print $2}') jobs (dry run)"
+  else
+    tail -5 "$work/dry_$preset.log"; say "FAILED: preset $preset does not resolve"; failures=$((failures + 1))
+  fi
+done
 
 # 3. one changed value re-runs only what depends on it.
 say "3/4 changing datasets.r07_clip frames 0:160 -> 0:150 (dry run)"
