@@ -37,7 +37,7 @@ if [ ! -x "$bin" ]; then
   say "building glmbslam (log $work/build.log)"
   scripts/build.sh --target glmbslam > "$work/build.log" 2>&1 || { tail -30 "$work/build.log"; exit 1; }
 fi
-say "snakemake $(snakemake --version), $(sbatch --version 2>/dev/null || echo 'no sbatch'), $(nproc) cores"
+say "snakemake $(snakemake --version), slurm-client $(dpkg-query -W -f '${Version}' slurm-client 2>/dev/null || echo absent), $(nproc) cores"
 slurm_dir="$work/slurm_cluster"
 cleanup() { [ -f "$slurm_dir/slurm.conf" ] && workflow/scripts/local_slurm.sh stop "$slurm_dir" || true; }
 trap cleanup EXIT
@@ -66,7 +66,7 @@ fi
 for preset in paper full; do
   if snakemake --snakefile workflow/Snakefile --config "preset=$preset" "glmbslam=$bin" "out=$work/dry" -n \
       > "$work/dry_$preset.log" 2>&1; then
-    say "preset $preset resolves: $(grep -A9 '^Job stats' "$work/dry_$preset.log" | awk '$1 == "total" {print $2}') jobs (dry run)"
+    say "preset $preset resolves: $(grep -A9 '^Job stats' "$work/dry_$preset.log" | awk '$1 == "total" {print $2}' | head -1) jobs (dry run)"
   else
     tail -5 "$work/dry_$preset.log"; say "FAILED: preset $preset does not resolve"; failures=$((failures + 1))
   fi

@@ -23,7 +23,7 @@ import sys
 
 ID_COLUMNS = ["preset", "dataset", "command", "algorithm", "particles", "refine", "seed", "scenario", "clutter",
               "frame_range", "config_file", "threads"]
-PROVENANCE_COLUMNS = ["wall_s", "peak_rss_mib", "runs_in_job", "git_revision", "git_dirty", "machine", "cpu_model",
+PROVENANCE_COLUMNS = ["wall_s", "cpu_s", "peak_rss_mib", "runs_in_job", "git_revision", "git_dirty", "machine", "cpu_model",
                       "cpu_count", "slurm_job_id", "started_utc", "ended_utc", "executable", "command_line",
                       "run_dir"]
 GROUP = ["dataset", "command", "algorithm", "particles", "refine"]
@@ -36,19 +36,19 @@ STEREO_COLUMNS = [
     ("VO t_rel %", "vo.kitti.t_rel_percent"), ("VO r_rel deg/100m", "vo.kitti.r_rel_deg_per_100m"),
     ("VO ATE m", "vo.ate.se3_rmse_m"), ("VO drift %", "vo.end_point_drift_percent"),
     ("fps", "timing.fps"), ("backend ms", "timing.backend_ms_median"), ("landmarks", "map.landmarks"),
-    ("ESS %", "filter.ess_percent"), ("peak RSS MiB", "peak_rss_mib"), ("wall s", "wall_s"),
+    ("ESS %", "filter.ess_percent"), ("peak RSS MiB", "peak_rss_mib"), ("wall s", "wall_s"), ("CPU s", "cpu_s"),
 ]
 VO_COLUMNS = [
     ("t_rel %", "kitti.t_rel_percent"), ("r_rel deg/100m", "kitti.r_rel_deg_per_100m"),
     ("ATE m", "ate.se3_rmse_m"), ("drift %", "drift.end_point_error_percent"),
     ("t_rel %", "vo.kitti.t_rel_percent"), ("r_rel deg/100m", "vo.kitti.r_rel_deg_per_100m"),
     ("ATE m", "vo.ate.se3_rmse_m"), ("drift %", "vo.end_point_drift_percent"),
-    ("peak RSS MiB", "peak_rss_mib"), ("wall s", "wall_s"),
+    ("peak RSS MiB", "peak_rss_mib"), ("wall s", "wall_s"), ("CPU s", "cpu_s"),
 ]
 PLANAR_COLUMNS = [
     ("position RMSE m", "position_rmse_m"), ("ms per step", "ms_per_step.mean"), ("ESS %", "ess_percent"),
     ("resampling %", "resampling_percent"), ("landmarks", "map.landmarks"), ("peak RSS MiB", "peak_rss_mib"),
-    ("wall s", "wall_s"),
+    ("wall s", "wall_s"), ("CPU s", "cpu_s"),
 ]
 SIM_COLUMNS = [
     ("position RMSE m (per run)", "position_rmse_m"), ("GOSPA m (per run)", "gospa_m"),
@@ -74,7 +74,7 @@ def rows_of_run(prov_path):
     with open(os.path.join(run_dir, "metrics.json")) as f:
         metrics = json.load(f)
     base = {k: prov.get(k) for k in ID_COLUMNS if k in prov}
-    for k in ("wall_s", "peak_rss_mib", "git_revision", "git_dirty", "machine", "cpu_model", "cpu_count",
+    for k in ("wall_s", "cpu_s", "peak_rss_mib", "git_revision", "git_dirty", "machine", "cpu_model", "cpu_count",
               "slurm_job_id", "started_utc", "ended_utc", "executable"):
         base[k] = prov.get(k)
     base["command_line"] = " ".join(prov.get("argv", []))
@@ -202,9 +202,11 @@ def provenance_text(rows, preset):
     dates = sorted(str(r.get("started_utc"))[:10] for r in rows if r.get("started_utc"))
     slurm = sum(1 for r in rows if r.get("slurm_job_id"))
     jobs = {r["run_dir"] for r in rows}
-    wall = sum(number(r.get("wall_s")) or 0 for r in {r["run_dir"]: r for r in rows}.values())
+    per_job = {r["run_dir"]: r for r in rows}.values()
+    wall = sum(number(r.get("wall_s")) or 0 for r in per_job)
+    cpu = sum(number(r.get("cpu_s")) or 0 for r in per_job)
     return (f"Preset `{preset}`: {len(rows)} runs in {len(jobs)} jobs ({slurm} rows from Slurm jobs), "
-            f"{wall / 60:.1f} min of job wall time; dates {dates[0] if dates else '?'} to "
+            f"{wall / 60:.1f} min of job wall time, {cpu / 60:.1f} min CPU; dates {dates[0] if dates else '?'} to "
             f"{dates[-1] if dates else '?'}; git revision {', '.join(revs)}; machine {', '.join(machines)} "
             f"({'; '.join(cpus)}). Mean ± sample standard deviation over seeds (simulations: over Monte Carlo "
             f"runs); t_rel / r_rel are the KITTI devkit metric (empty when the run is shorter than its 100 m "

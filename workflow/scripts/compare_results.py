@@ -13,7 +13,7 @@ import re
 import sys
 
 KEY = ("dataset", "command", "algorithm", "particles", "refine", "seed")
-SKIP = re.compile(r"(^|\.)(timing|wall_s|wall_time_s|fps|ms_per_step|total_s|peak_rss_mib|git_revision|git_dirty|"
+SKIP = re.compile(r"(^|\.)(timing|wall_s|cpu_s|wall_time_s|fps|ms_per_step|total_s|peak_rss_mib|git_revision|git_dirty|"
                   r"machine|cpu_model|cpu_count|slurm_job_id|started_utc|ended_utc|executable|command_line|run_dir|"
                   r"threads)($|\.)|_ms($|_|\.)|ms_median|seconds|_time")
 

@@ -103,12 +103,15 @@ def slam_vs_vo(rows, path):
 
 def versus_particles(rows, path, value_of, ylabel, title):
     curves = {}  # (dataset, command) -> {(algorithm, refine): {N: [values]}}
+    stereo = set()
     for r in rows:
         if r["command"] == "vo":
             continue
         v = value_of(r)
         if v is None:
             continue
+        if is_stereo(r):
+            stereo.add((r["dataset"], r["command"]))
         curves.setdefault((r["dataset"], r["command"]), {}).setdefault((r["algorithm"], r["refine"]), {}) \
             .setdefault(int(r["particles"]), []).append(v)
     panels = sorted(k for k, c in curves.items() if any(len(n) > 1 for n in c.values()))
@@ -131,7 +134,7 @@ def versus_particles(rows, path, value_of, ylabel, title):
         ax.set_xticks(all_n)
         ax.set_xticklabels([str(n) for n in all_n])
         ax.set_xlabel("particles N")
-        ax.set_ylabel(ylabel)
+        ax.set_ylabel(ylabel[0] if key in stereo else ylabel[1])
         ax.set_title(f"{key[0]} ({key[1]})", fontsize=9)
         ax.legend(fontsize=7)
     for ax in list(axes.flat)[len(panels):]:
@@ -161,9 +164,9 @@ def main():
     with open(sys.argv[1], newline="") as f:
         rows = list(csv.DictReader(f))
     slam_vs_vo(rows, sys.argv[2])
-    versus_particles(rows, sys.argv[3], error_value, "error (m): stereo SLAM ATE, 2D position RMSE",
+    versus_particles(rows, sys.argv[3], error_value, ("SLAM ATE SE(3) (m)", "position RMSE (m)"),
                      "Error vs particle count (mean ± std over seeds / runs)")
-    versus_particles(rows, sys.argv[4], time_value, "ms per frame (stereo) / per step (2D)",
+    versus_particles(rows, sys.argv[4], time_value, ("ms per frame (1000 / fps)", "ms per step"),
                      "Time vs particle count (mean ± std)")
     return 0
 

@@ -96,7 +96,8 @@ def main():
         code = subprocess.call(command, stdout=log, stderr=subprocess.STDOUT)
     wall = time.monotonic() - t0
     ended = datetime.datetime.now(datetime.timezone.utc)
-    rss_kib = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss  # KiB on Linux; before any other child
+    usage = resource.getrusage(resource.RUSAGE_CHILDREN)  # before any other child
+    rss_kib = usage.ru_maxrss  # KiB on Linux
     rev, dirty = git_revision(args.root)
     info = json.loads(args.info)
     prov = {
@@ -104,6 +105,7 @@ def main():
         "argv": command,
         "exit_code": code,
         "wall_s": round(wall, 3),
+        "cpu_s": round(usage.ru_utime + usage.ru_stime, 3),
         "peak_rss_mib": round(rss_kib / 1024.0, 1),
         "git_revision": rev,
         "git_dirty": dirty,
