@@ -16,8 +16,8 @@
 // (seed, k, particle) — so the output does not depend on the thread count: x ~ f(·|x⁻, u) (or the MH-ID);
 // map update at x; log w += log g (+ the importance ratio). Then normalisation, the estimate (highest-weight
 // particle, before resampling) and systematic resampling every step ("always") or when ESS < ess_threshold·N
-// ("ess"). Trajectories (parent-linked nodes) and maps (shared_ptr to const) are shared between particles, so
-// resampling copies pointers.
+// ("ess"): the particle-step skeleton of backend/rbpf/particle_set.hpp. Trajectories (parent-linked nodes)
+// and maps (shared_ptr to const) are shared between particles, so resampling copies pointers.
 #include <algorithm>
 #include <cmath>
 #include <memory>
@@ -27,11 +27,9 @@
 #include "backend/phd/gm_phd_map.hpp"
 #include "backend/phd/phd_mh_landmarks.hpp"
 #include "backend/rbpf/mh_per_parent.hpp"
-#include "backend/rbpf/resampling.hpp"
-#include "backend/rbpf/trajectory.hpp"
+#include "backend/rbpf/particle_set.hpp"
 #include "core/error.hpp"
 #include "core/log_math.hpp"
-#include "core/parallel.hpp"
 #include "core/random.hpp"
 #include "core/stopwatch.hpp"
 
@@ -61,111 +59,83 @@ class PhdSlam {
   using ComponentList = std::vector<Component, Eigen::aligned_allocator<Component>>;
   using Node = TrajectoryNode<State>;
   using PoseList = std::vector<State, Eigen::aligned_allocator<State>>;
-
-  struct Particle {
-    double log_weight = 0.0;  ///< normalised
-    std::shared_ptr<const Node> trajectory;
-    std::shared_ptr<const Map> map;
-  };
+  using Particle = RbpfParticle<State, Map>;
 
   /// Throws ConfigError on an invalid config. `mh` configures proposal "mh" (ignored otherwise).
   PhdSlam(const Motion& motion, const Meas& model, const PhdConfig& config, const State& initial_pose,
           const MhProposalConfig& mh = MhProposalConfig())
-      : motion_(motion), config_(config), updater_(model, config), mh_(motion, model, mh) {
-    auto root = std::make_shared<const Node>(initial_pose, 0, nullptr);
-    auto empty = std::make_shared<const Map>();
-    const double log_w = -std::log(static_cast<double>(config.particles));
-    particles_.assign(static_cast<std::size_t>(config.particles), Particle{log_w, root, empty});
-    best_ = particles_[0];
-  }
+      : motion_(motion),
+        config_(config),
+        updater_(model, config),
+        mh_(motion, model, mh),
+        set_(config.particles, config.seed,
+             ResamplingPolicy{config.resampling == "always", config.ess_threshold}, initial_pose,
+             std::make_shared<const Map>()) {}
 
   /// Optional, before the first step: the measurement set Z_0 taken at the (known) initial pose. It updates
   /// the common initial map (so its measurements become birth components for step 1), anchoring the map to
   /// the initial pose. Throws InputError on a non-finite measurement, std::logic_error after step().
   void initial_scan(const MeasurementSet& Z) {
-    if (step_ != 0) throw std::logic_error("PhdSlam::initial_scan must be called before the first step");
+    if (set_.steps() != 0)
+      throw std::logic_error("PhdSlam::initial_scan must be called before the first step");
     updater_.validate(Z, 0);
     auto map = std::make_shared<Map>();
-    updater_.update(*particles_[0].map, particles_[0].trajectory->pose, Z, *map);
-    std::shared_ptr<const Map> shared = std::move(map);
-    for (auto& p : particles_) p.map = shared;
-    best_ = particles_[0];
+    const Particle& p0 = set_.particles()[0];
+    updater_.update(*p0.map, p0.trajectory->pose, Z, *map);
+    set_.set_common_map(std::move(map));
   }
 
   /// One filter step with control u (from step k−1 to k) and the measurement set Z_k.
   /// Throws InputError (and leaves the filter unchanged) if a measurement or the control is not finite.
   void step(const Control& u, const MeasurementSet& Z) {
     Stopwatch watch;
-    const int k = step_ + 1;
+    const int k = set_.steps() + 1;
     if (!u.allFinite()) throw InputError("control input", "time step " + std::to_string(k) + ": not finite");
     updater_.validate(Z, k);
-    const std::size_t n = particles_.size();
-    next_.resize(n);
-    stats_.resize(n);
+    stats_.resize(set_.particles().size());
     const bool mh = config_.proposal == "mh";
-    if (mh) mh_.build(particles_, u, Z);
-    parallel_for(n, [&](std::size_t i) {
-      RandomStream rng(config_.seed, (static_cast<std::uint64_t>(k) << 24) + i);
-      const Particle& p = particles_[i];
-      State x, x_estimate;
-      double log_ratio = 0.0;  // log f(x|x⁻,u) − log q(x) (0 for the prior proposal)
-      if (mh) {                // the parent's MH-ID (shared by its resampled copies)
-        log_ratio = mh_.sample(i, rng, x, x_estimate);
-      } else {
-        x = motion_.sample(p.trajectory->pose, u, rng);
-        x_estimate = x;
-      }
-      auto map = std::make_shared<Map>();
-      const GmPhdUpdateStats s = updater_.update(*p.map, x, Z, *map);
-      Particle& out = next_[i];
-      out.log_weight = p.log_weight + s.log_likelihood + log_ratio;
-      if (!std::isfinite(out.log_weight)) out.log_weight = kLogZero;
-      out.trajectory = std::make_shared<const Node>(x, x_estimate, k, p.trajectory);
-      out.map = std::move(map);
-      stats_[i] = s;
-    });
-    log_w_.resize(n);
-    for (std::size_t i = 0; i < n; ++i) log_w_[i] = next_[i].log_weight;
-    if (log_sum_exp(log_w_) == kLogZero) std::fill(log_w_.begin(), log_w_.end(), 0.0);  // all failed: uniform
-    normalize_log_weights(log_w_);
-    for (std::size_t i = 0; i < n; ++i) next_[i].log_weight = log_w_[i];
+    if (mh) mh_.build(set_.particles(), u, Z);
+    const ParticleStepResult r =
+        set_.step([&](std::size_t i, RandomStream& rng, const Particle& p, Particle& out) {
+          State x, x_estimate;
+          double log_ratio = 0.0;  // log f(x|x⁻,u) − log q(x) (0 for the prior proposal)
+          if (mh) {                // the parent's MH-ID (shared by its resampled copies)
+            log_ratio = mh_.sample(i, rng, x, x_estimate);
+          } else {
+            x = motion_.sample(p.trajectory->pose, u, rng);
+            x_estimate = x;
+          }
+          auto map = std::make_shared<Map>();
+          const GmPhdUpdateStats s = updater_.update(*p.map, x, Z, *map);
+          out.trajectory = std::make_shared<const Node>(x, x_estimate, k, p.trajectory);
+          out.map = std::move(map);
+          stats_[i] = s;
+          return s.log_likelihood + log_ratio;
+        });
     PhdStepReport report;
     report.step = k;
-    report.ess = effective_sample_size(log_w_);
-    const auto best =
-        static_cast<std::size_t>(std::max_element(log_w_.begin(), log_w_.end()) - log_w_.begin());
-    report.best_particle = static_cast<int>(best);
-    report.components = stats_[best].components;
-    report.log_likelihood = stats_[best].log_likelihood;
-    best_ = next_[best];
-    particles_.swap(next_);
-    const bool resample =
-        config_.resampling == "always" || report.ess < config_.ess_threshold * static_cast<double>(n);
-    if (resample && n > 1) {
-      RandomStream rng(config_.seed, (static_cast<std::uint64_t>(k) << 24) + 0xFFFFFFULL);
-      resample_particles(particles_, next_, log_w_, rng);
-      ++resample_count_;
-    }
-    for (auto& p : next_) p = Particle{};  // release references held by the scratch copies
-    report.resampled = resample && n > 1;
-    step_ = k;
+    report.ess = r.ess;
+    report.best_particle = static_cast<int>(r.best);
+    report.components = stats_[r.best].components;
+    report.log_likelihood = stats_[r.best].log_likelihood;
+    report.resampled = r.resampled;
     report.ms = watch.elapsed_ms();
     last_ = report;
   }
 
   /// The estimated pose at the last step (highest-weight particle, before resampling).
-  const State& pose() const { return best_.trajectory->pose; }
+  const State& pose() const { return set_.pose(); }
   /// The highest-weight particle's trajectory, steps 0..k.
-  PoseList trajectory() const { return best_.trajectory->poses(); }
+  PoseList trajectory() const { return set_.trajectory(); }
   /// Its proposal means, steps 0..k (the MH-ID mixture mean for "mh", the sampled pose for "prior").
-  PoseList estimated_trajectory() const { return best_.trajectory->estimates(); }
+  PoseList estimated_trajectory() const { return set_.estimated_trajectory(); }
   /// The highest-weight particle's map estimate: components with weight > existence_threshold.
-  ComponentList landmarks() const { return updater_.estimate(*best_.map); }
-  const Map& map() const { return *best_.map; }
+  ComponentList landmarks() const { return updater_.estimate(*set_.best().map); }
+  const Map& map() const { return *set_.best().map; }
   const PhdStepReport& last_report() const { return last_; }
-  int steps() const { return step_; }
-  int resample_count() const { return resample_count_; }
-  const std::vector<Particle>& particles() const { return particles_; }
+  int steps() const { return set_.steps(); }
+  int resample_count() const { return set_.resample_count(); }
+  const std::vector<Particle>& particles() const { return set_.particles(); }
   const PhdConfig& config() const { return config_; }
 
  private:
@@ -173,13 +143,9 @@ class PhdSlam {
   PhdConfig config_;
   GmPhdUpdater<Meas> updater_;
   MhPerParent<Motion, Meas> mh_;  ///< proposal "mh"
-  std::vector<Particle> particles_, next_;
+  ParticleSet<State, Map> set_;
   std::vector<GmPhdUpdateStats> stats_;
-  std::vector<double> log_w_;
-  Particle best_;
   PhdStepReport last_;
-  int step_ = 0;
-  int resample_count_ = 0;
 };
 
 }  // namespace glmbslam::backend

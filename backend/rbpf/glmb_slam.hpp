@@ -15,8 +15,9 @@
 //   weight "importance": log w += log Ĝ(x) + log f(x|x⁻,u) − log q(x)   (= log Ĝ for the prior proposal)
 //   weight "paper":      log w += log Σ_{h,θ} W_{h,θ}   (Eq. 33 as printed; log Ĝ for the prior proposal)
 // then normalisation, the estimate (highest-weight particle, taken before resampling), and systematic
-// resampling every step ("always") or when ESS < ess_threshold·N ("ess"). Trajectories and maps are shared
-// between particles through shared_ptr, so resampling copies pointers.
+// resampling every step ("always") or when ESS < ess_threshold·N ("ess"): the particle-step skeleton of
+// particle_set.hpp, shared with the other filters. Trajectories and maps are shared between particles through
+// shared_ptr, so resampling copies pointers.
 #include <algorithm>
 #include <cmath>
 #include <functional>
@@ -28,12 +29,10 @@
 #include "backend/glmb/glmb_update.hpp"
 #include "backend/rbpf/mh_per_parent.hpp"
 #include "backend/rbpf/optimal_proposal.hpp"
+#include "backend/rbpf/particle_set.hpp"
 #include "backend/rbpf/rbpf_config.hpp"
-#include "backend/rbpf/resampling.hpp"
-#include "backend/rbpf/trajectory.hpp"
 #include "core/error.hpp"
 #include "core/log_math.hpp"
-#include "core/parallel.hpp"
 #include "core/random.hpp"
 #include "core/stopwatch.hpp"
 
@@ -65,71 +64,50 @@ class GlmbSlam {
   using Node = TrajectoryNode<State>;
   using LandmarkList = std::vector<LandmarkEstimate<Meas>, Eigen::aligned_allocator<LandmarkEstimate<Meas>>>;
   using PoseList = std::vector<State, Eigen::aligned_allocator<State>>;
-
-  struct Particle {
-    double log_weight = 0.0;  ///< normalised
-    std::shared_ptr<const Node> trajectory;
-    std::shared_ptr<const Map> map;
-  };
+  using Particle = RbpfParticle<State, Map>;
 
   /// Throws ConfigError on an invalid config. `mh` configures proposal "mh" (ignored otherwise).
   GlmbSlam(const Motion& motion, const Meas& model, const RbpfConfig& config, const State& initial_pose,
            const MhProposalConfig& mh = MhProposalConfig())
       : motion_(motion),
         model_(model),
-        config_(config),
+        config_(validated(config)),
         updater_(model, config.glmb),
         proposal_(motion, model, config),
         mh_(motion, model, mh),
-        factorized_(config.particle_normalizer == "factorized") {
-    if (config.particles < 1) throw ConfigError("rbpf.particles must be at least 1");
-    if (config.proposal != "prior" && config.proposal != "optimal" && config.proposal != "mh")
-      throw ConfigError("rbpf.proposal must be 'prior', 'optimal' or 'mh'");
-    if (config.weighting != "importance" && config.weighting != "paper")
-      throw ConfigError("rbpf.weighting must be 'importance' or 'paper'");
-    if (config.proposal == "mh" && config.weighting != "importance")
-      throw ConfigError("rbpf.proposal 'mh' needs rbpf.weighting 'importance'");
-    if (config.resampling != "always" && config.resampling != "ess")
-      throw ConfigError("rbpf.resampling must be 'always' or 'ess'");
-    if (config.particle_normalizer != "sampled" && config.particle_normalizer != "factorized")
-      throw ConfigError("rbpf.particle_normalizer must be 'sampled' or 'factorized'");
-    if (config.single_particle != "sample" && config.single_particle != "mean")
-      throw ConfigError("rbpf.single_particle must be 'sample' or 'mean'");
-    auto root = std::make_shared<const Node>(initial_pose, 0, nullptr);
-    std::shared_ptr<const Map> empty = std::make_shared<Map>(Map::empty());  // non-const: recyclable
-    const double log_w = -std::log(static_cast<double>(config.particles));
-    particles_.assign(config.particles, Particle{log_w, root, empty});
-    best_ = particles_[0];
-  }
+        factorized_(config.particle_normalizer == "factorized"),
+        // the empty map is created non-const: recyclable
+        set_(config.particles, config.seed,
+             ResamplingPolicy::parse(config.resampling, config.ess_threshold, "rbpf.resampling"),
+             initial_pose, std::make_shared<Map>(Map::empty())) {}
 
   /// Optional, before the first step: the measurement set Z_0 taken at the (known) initial pose. It updates
   /// the common initial map (so its measurements become birth candidates for step 1), anchoring the map to
   /// the initial pose. Throws InputError on a non-finite measurement, std::logic_error after step().
   void initial_scan(const MeasurementSet& Z) {
-    if (step_ != 0) throw std::logic_error("GlmbSlam::initial_scan must be called before the first step");
+    if (set_.steps() != 0)
+      throw std::logic_error("GlmbSlam::initial_scan must be called before the first step");
     updater_.validate(Z, 0);
     RandomStream rng(config_.seed, 0xFFFFFFULL);
     auto map = std::make_shared<Map>();
-    updater_.update(*particles_[0].map, particles_[0].trajectory->pose, Z, 0, rng, *map);
-    std::shared_ptr<const Map> shared = std::move(map);
-    for (auto& p : particles_) p.map = shared;
-    best_ = particles_[0];
+    const Particle& p0 = set_.particles()[0];
+    updater_.update(*p0.map, p0.trajectory->pose, Z, 0, rng, *map);
+    set_.set_common_map(std::move(map));
   }
 
   /// One filter step with control u (from step k−1 to k) and the measurement set Z_k.
   /// Throws InputError (and leaves the filter unchanged) if a measurement or the control is not finite.
   void step(const Control& u, const MeasurementSet& Z) {
     Stopwatch watch;
-    const int k = step_ + 1;
+    const int k = set_.steps() + 1;
     if (!u.allFinite()) throw InputError("control input", "time step " + std::to_string(k) + ": not finite");
     updater_.validate(Z, k);
-    const std::size_t n = particles_.size();
-    next_.resize(n);
+    const std::size_t n = set_.particles().size();
     stats_.resize(n);
     const bool optimal = config_.proposal == "optimal";
     const bool mh = config_.proposal == "mh";
     const bool paper = config_.weighting == "paper";
-    if (mh) mh_.build(particles_, u, Z);
+    if (mh) mh_.build(set_.particles(), u, Z);
     // the posterior maps: storage of maps no longer referenced (recycled at the end of the previous step,
     // keeping the capacity of their vectors) or new ones
     fresh_.resize(n);
@@ -141,9 +119,9 @@ class GlmbSlam {
         fresh_[i] = std::make_shared<Map>();
       }
     }
-    parallel_for(n, [&](std::size_t i) {
-      RandomStream rng(config_.seed, (static_cast<std::uint64_t>(k) << 24) + i);
-      const Particle& p = particles_[i];
+    retired_.clear();
+    for (const auto& p : set_.particles()) retired_.push_back(p.map);
+    auto propagate = [&](std::size_t i, RandomStream& rng, const Particle& p, Particle& out) {
       const State& x_prev = p.trajectory->pose;
       State x;
       State x_estimate;
@@ -169,43 +147,15 @@ class GlmbSlam {
       std::shared_ptr<Map> map = std::move(fresh_[i]);
       const GlmbUpdateStats s = updater_.update(*p.map, x, Z, k, rng, *map);
       if (!optimal || !paper) log_increment += factorized_ ? s.log_normalizer_factorized : s.log_normalizer;
-      Particle& out = next_[i];
-      out.log_weight = p.log_weight + log_increment;
-      if (!std::isfinite(out.log_weight)) out.log_weight = kLogZero;
       out.trajectory = std::make_shared<const Node>(x, x_estimate, k, p.trajectory);
       out.map = std::move(map);
       stats_[i] = s;
-    });
-    // normalise
-    log_w_.resize(n);
-    for (std::size_t i = 0; i < n; ++i) log_w_[i] = next_[i].log_weight;
-    if (log_sum_exp(log_w_) == kLogZero) std::fill(log_w_.begin(), log_w_.end(), 0.0);  // all failed: uniform
-    normalize_log_weights(log_w_);
-    for (std::size_t i = 0; i < n; ++i) next_[i].log_weight = log_w_[i];
-    StepReport report;
-    report.step = k;
-    report.ess = effective_sample_size(log_w_);
-    const std::size_t best =
-        static_cast<std::size_t>(std::max_element(log_w_.begin(), log_w_.end()) - log_w_.begin());
-    report.best_particle = static_cast<int>(best);
-    report.hypotheses = stats_[best].hypotheses;
-    report.tracks = stats_[best].tracks;
-    report.active_tracks = stats_[best].active_tracks;
-    report.log_likelihood = stats_[best].log_normalizer;
-    best_ = next_[best];
-    weighted_mean_ = weighted_mean(next_);
-    retired_.clear();
-    for (const auto& p : particles_) retired_.push_back(p.map);
-    particles_.swap(next_);
-    // resample
-    const bool resample =
-        config_.resampling == "always" || report.ess < config_.ess_threshold * static_cast<double>(n);
-    if (resample && n > 1) {
-      RandomStream rng(config_.seed, (static_cast<std::uint64_t>(k) << 24) + 0xFFFFFFULL);
-      resample_particles(particles_, next_, log_w_, rng);
-      ++resample_count_;
-    }
-    for (auto& p : next_) p = Particle{};  // release references held by the scratch copies
+      return log_increment;
+    };
+    const ParticleStepResult r =
+        set_.step(propagate, [&](const std::vector<Particle>& next, const ParticleStepResult&) {
+          weighted_mean_ = weighted_mean(next);
+        });
     // the previous maps no particle uses any more go to the pool (each once; the const_pointer_cast is
     // sound: every map here was created non-const by this class)
     std::sort(retired_.begin(), retired_.end(),
@@ -214,37 +164,61 @@ class GlmbSlam {
     for (auto& m : retired_)
       if (m.use_count() == 1) pool_.push_back(std::const_pointer_cast<Map>(std::move(m)));
     retired_.clear();
-    report.resampled = resample && n > 1;
-    step_ = k;
+    StepReport report;
+    report.step = k;
+    report.ess = r.ess;
+    report.best_particle = static_cast<int>(r.best);
+    report.hypotheses = stats_[r.best].hypotheses;
+    report.tracks = stats_[r.best].tracks;
+    report.active_tracks = stats_[r.best].active_tracks;
+    report.log_likelihood = stats_[r.best].log_normalizer;
+    report.resampled = r.resampled;
     report.ms = watch.elapsed_ms();
     last_ = report;
   }
 
   // ----- estimates (taken from the highest-weight particle before resampling) -----
   /// The estimated pose at the last step (highest-weight particle).
-  const State& pose() const { return best_.trajectory->pose; }
+  const State& pose() const { return set_.pose(); }
   /// The weighted mean pose at the last step (mean in the tangent space at the best pose).
-  const State& mean_pose() const { return step_ == 0 ? best_.trajectory->pose : weighted_mean_; }
+  const State& mean_pose() const { return set_.steps() == 0 ? set_.pose() : weighted_mean_; }
   /// The highest-weight particle's trajectory, steps 0..k.
-  PoseList trajectory() const { return best_.trajectory->poses(); }
+  PoseList trajectory() const { return set_.trajectory(); }
   /// The highest-weight particle's Rao–Blackwellised estimates, steps 0..k: at each step the mean of the
   /// optimal-kernel proposal given that particle's history and map (its sampled pose for the prior proposal).
   /// Free of the sampling noise of trajectory(), which the particle's map is conditioned on.
-  PoseList estimated_trajectory() const { return best_.trajectory->estimates(); }
+  PoseList estimated_trajectory() const { return set_.estimated_trajectory(); }
   /// The highest-weight particle's map estimate (MAP cardinality, then its best hypothesis).
-  LandmarkList landmarks() const { return estimate_map(*best_.map); }
+  LandmarkList landmarks() const { return estimate_map(*set_.best().map); }
   /// The highest-weight particle's map (all hypotheses).
-  const Map& map() const { return *best_.map; }
+  const Map& map() const { return *set_.best().map; }
 
   const StepReport& last_report() const { return last_; }
-  int steps() const { return step_; }
-  int resample_count() const { return resample_count_; }
-  const std::vector<Particle>& particles() const { return particles_; }
+  int steps() const { return set_.steps(); }
+  int resample_count() const { return set_.resample_count(); }
+  const std::vector<Particle>& particles() const { return set_.particles(); }
   const RbpfConfig& config() const { return config_; }
 
  private:
+  static const RbpfConfig& validated(const RbpfConfig& config) {
+    if (config.particles < 1) throw ConfigError("rbpf.particles must be at least 1");
+    if (config.proposal != "prior" && config.proposal != "optimal" && config.proposal != "mh")
+      throw ConfigError("rbpf.proposal must be 'prior', 'optimal' or 'mh'");
+    if (config.weighting != "importance" && config.weighting != "paper")
+      throw ConfigError("rbpf.weighting must be 'importance' or 'paper'");
+    if (config.proposal == "mh" && config.weighting != "importance")
+      throw ConfigError("rbpf.proposal 'mh' needs rbpf.weighting 'importance'");
+    if (config.resampling != "always" && config.resampling != "ess")
+      throw ConfigError("rbpf.resampling must be 'always' or 'ess'");
+    if (config.particle_normalizer != "sampled" && config.particle_normalizer != "factorized")
+      throw ConfigError("rbpf.particle_normalizer must be 'sampled' or 'factorized'");
+    if (config.single_particle != "sample" && config.single_particle != "mean")
+      throw ConfigError("rbpf.single_particle must be 'sample' or 'mean'");
+    return config;
+  }
+
   State weighted_mean(const std::vector<Particle>& ps) const {
-    const State& ref = best_.trajectory->pose;
+    const State& ref = set_.pose();
     Tangent d = Tangent::Zero();
     for (const auto& p : ps) d += std::exp(p.log_weight) * Motion::local(p.trajectory->pose, ref);
     return Motion::retract(ref, d);
@@ -257,16 +231,12 @@ class GlmbSlam {
   OptimalProposal<Motion, Meas> proposal_;
   MhPerParent<Motion, Meas> mh_;  ///< proposal "mh"
   bool factorized_ = false;       ///< RbpfConfig::particle_normalizer == "factorized"
-  std::vector<Particle> particles_, next_;
+  ParticleSet<State, Map> set_;
   std::vector<std::shared_ptr<Map>> fresh_, pool_;   ///< posterior maps of this step; recyclable maps
   std::vector<std::shared_ptr<const Map>> retired_;  ///< the previous step's maps, checked for reuse
   std::vector<GlmbUpdateStats> stats_;
-  std::vector<double> log_w_;
-  Particle best_;
   State weighted_mean_;
   StepReport last_;
-  int step_ = 0;
-  int resample_count_ = 0;
 };
 
 }  // namespace glmbslam::backend

@@ -10,6 +10,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include "app/baseline_filters.hpp"
 #include "app/sim_report.hpp"
 #include "backend/models/range_bearing_model.hpp"
 #include "backend/models/steering_motion.hpp"
@@ -46,6 +47,7 @@ constexpr double kRad2Deg = 180.0 / M_PI;
 struct RunRecord {
   std::vector<Eigen::Vector3d> estimates;  // per step k = 0..K−1 (k = 0: the initial pose)
   std::vector<double> ospa;                // per step (paper2019), k = 1..K−1
+  std::vector<double> gospa, cardinality;  // per step (paper2019): GOSPA (c, p of the OSPA, α = 2), |map|
   std::vector<Eigen::Vector2d> final_map;
   std::vector<double> ms, ess_fraction;
   int resampled = 0;
@@ -94,9 +96,11 @@ RunRecord drive(Slam& slam, const sim::Scenario2D& s, const std::vector<std::vec
   RunRecord rec;
   rec.estimates.push_back(s.poses[0]);
   typename Slam::MeasurementSet z(s.measurements[0].begin(), s.measurements[0].end());
+  set_true_labels(slam, s.measurement_sources[0], 0);  // FastSLAM 2.0 with known associations only
   slam.initial_scan(z);  // Z_0 at the known initial pose: births for step 1, anchoring the map
   for (std::size_t k = 1; k < s.steps(); ++k) {
     z.assign(s.measurements[k].begin(), s.measurements[k].end());
+    set_true_labels(slam, s.measurement_sources[k], 0);
     slam.step(s.controls[k], z);
     rec.estimates.push_back(slam.pose());
     const auto& r = slam.last_report();
@@ -104,8 +108,11 @@ RunRecord drive(Slam& slam, const sim::Scenario2D& s, const std::vector<std::vec
     rec.ess_fraction.push_back(r.ess / static_cast<double>(particles));
     rec.resampled += r.resampled ? 1 : 0;
     if (per_step_ospa) {
-      rec.ospa.push_back(
-          eval::ospa(truth_set(s, seen[k]), estimate_set(slam.landmarks()), kOspaC, kOspaP).distance);
+      const auto lms = slam.landmarks();
+      const eval::PointSet truth = truth_set(s, seen[k]), est = estimate_set(lms);
+      rec.ospa.push_back(eval::ospa(truth, est, kOspaC, kOspaP).distance);
+      rec.gospa.push_back(eval::gospa(truth, est, kOspaC, kOspaP).distance);
+      rec.cardinality.push_back(static_cast<double>(lms.size()));
     }
   }
   const auto lms = slam.landmarks();
@@ -153,6 +160,7 @@ struct Filters {
   backend::PhdConfig phd;        ///< phd1 (config key "phd")
   backend::PhdConfig phd3;       ///< phd3 = PHD-SLAM 3.0 (config key "phd3"; defaults: paper 003 Sec. VI)
   backend::MhProposalConfig mh;  ///< the multi-hypothesis proposal of glmb_mh and phd3 (config key "mh")
+  BaselineConfigs baselines;     ///< lmb, lmb1, fastslam2, fastslam2-known (config keys "lmb", "fastslam")
   Filters() {
     phd3.proposal = "mh";
     phd3.likelihood = "poisson";  // Eq. 46 (+ expected detections) in the Eq. 45 weight
@@ -181,6 +189,11 @@ RunRecord run_filter(const Motion& motion, const RangeBearingModel& model, const
   }
   f.rbpf.particles = o.particles;
   f.rbpf.seed = seed;
+  if (is_baseline_algorithm(o.algorithm)) {
+    return with_baseline_filter<Motion>(
+        o.algorithm, motion, model, f.rbpf, f.baselines, s.initial_pose(),
+        [&](auto& slam) { return drive(slam, s, seen, ospa_steps, o.particles); });
+  }
   f.rbpf.proposal = o.algorithm == "glmb1" ? "prior" : o.algorithm == "glmb_mh" ? "mh" : "optimal";
   backend::GlmbSlam<Motion, RangeBearingModel> slam(motion, model, f.rbpf, s.initial_pose(), f.mh);
   return drive(slam, s, seen, ospa_steps, o.particles);
@@ -245,13 +258,17 @@ void set_phdslam3_defaults(backend::RbpfConfig& r) {
 
 Filters load_filters(const SimOptions& o) {
   Filters f;
-  if (o.scenario == "phdslam3") set_phdslam3_defaults(f.rbpf);
+  if (o.scenario == "phdslam3") {
+    set_phdslam3_defaults(f.rbpf);
+    set_phdslam3_baseline_defaults(f.baselines);
+  }
   if (!o.config_file.empty()) {
     ConfigNode root = ConfigNode::load_file(o.config_file);
     if (root.has("rbpf")) backend::load_rbpf_config(root.child("rbpf"), f.rbpf);
     if (root.has("phd")) backend::load_phd_config(root.child("phd"), f.phd);
     if (root.has("phd3")) backend::load_phd_config(root.child("phd3"), f.phd3);
     if (root.has("mh")) backend::load_mh_proposal_config(root.child("mh"), f.mh);
+    load_baseline_configs(root, f.baselines);
     root.finish();
   }
   return f;
@@ -326,9 +343,11 @@ json run_simulation(const SimOptions& o) {
     throw ConfigError("--scenario must be paper2019 or phdslam3, got '" + o.scenario + "'");
   }
   if (o.algorithm != "glmb2" && o.algorithm != "glmb1" && o.algorithm != "phd1" && o.algorithm != "glmb_mh" &&
-      o.algorithm != "phd3" && o.algorithm != "dr") {
-    throw ConfigError("--algorithm must be glmb2, glmb1, glmb_mh, phd1, phd3 or dr, got '" + o.algorithm +
-                      "'");
+      o.algorithm != "phd3" && o.algorithm != "dr" && !is_baseline_algorithm(o.algorithm)) {
+    throw ConfigError(
+        "--algorithm must be glmb2, glmb1, glmb_mh, phd1, phd3, lmb, lmb1, fastslam2, "
+        "fastslam2-known or dr, got '" +
+        o.algorithm + "'");
   }
   if (o.particles < 1) throw ConfigError("--particles must be at least 1");
   if (o.runs < 1) throw ConfigError("--runs must be at least 1");
@@ -391,7 +410,8 @@ json run_simulation(const SimOptions& o) {
   // ground truth per run (phdslam3 regenerates only the measurements and odometry: the poses are the same)
   const sim::Scenario2D s0 = scenario_of(o.first_run);
   const std::size_t K = s0.steps();
-  std::vector<double> rmse_x(K, 0.0), rmse_y(K, 0.0), rmse_h(K, 0.0), ospa_mean;
+  const auto seen_s0 = seen_so_far(s0);
+  std::vector<double> rmse_x(K, 0.0), rmse_y(K, 0.0), rmse_h(K, 0.0), ospa_mean, gospa_mean, card_mean;
   std::vector<double> per_run_pos, per_run_head, ms_all, ess_all, final_ospa, gospa_d, gospa_loc, gospa_miss,
       gospa_false, card_err;
   double se_pos = 0.0, se_head = 0.0;
@@ -428,8 +448,13 @@ json run_simulation(const SimOptions& o) {
     card_err.push_back(static_cast<double>(rec.final_cardinality_error));
     if (!rec.ospa.empty()) {
       if (ospa_mean.empty()) ospa_mean.assign(rec.ospa.size(), 0.0);
-      for (std::size_t k = 0; k < rec.ospa.size(); ++k)
+      gospa_mean.resize(rec.ospa.size(), 0.0);
+      card_mean.resize(rec.ospa.size(), 0.0);
+      for (std::size_t k = 0; k < rec.ospa.size(); ++k) {
         ospa_mean[k] += rec.ospa[k] / static_cast<double>(runs);
+        gospa_mean[k] += rec.gospa[k] / static_cast<double>(runs);
+        card_mean[k] += rec.cardinality[k] / static_cast<double>(runs);
+      }
     }
   }
   for (std::size_t k = 0; k < K; ++k) {
@@ -465,8 +490,13 @@ json run_simulation(const SimOptions& o) {
              {"p", kOspaP},
              {"per_step_mean_m", ospa_mean},
              {"mean_over_steps_m", mean_over_steps},
+             {"per_step_gospa_mean_m", gospa_mean},
+             {"gospa_mean_over_steps_m", mean_of(gospa_mean)},
              {"final_m", summary_json(final_ospa)},
              {"ground_truth", "landmarks seen (in the field of view of the true pose) up to the step"}};
+    std::vector<double> true_card;
+    for (std::size_t k = 1; k < K; ++k) true_card.push_back(static_cast<double>(seen_s0[k].size()));
+    m["cardinality_per_step"] = json{{"estimated_mean", card_mean}, {"true", true_card}};
   } else {
     m["gospa"] =
         json{{"c_m", kGospaC},

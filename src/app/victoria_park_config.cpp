@@ -29,6 +29,10 @@ VictoriaParkConfig default_victoria_park_config() {
   // glmb-mh and phd3 with N = 1: the pose is the MH-ID's mean, not a draw (mh.single_particle; the figures
   // are in config/victoria_park.yaml)
   c.mh.single_particle = "mean";
+  // fastslam2: the same resampling and single-particle settings as the δ-GLMB filters
+  c.baselines.fastslam.resampling = "ess";
+  c.baselines.fastslam.ess_threshold = 0.1;
+  c.baselines.fastslam.single_particle = "mean";
   return c;
 }
 
@@ -37,8 +41,9 @@ void load_victoria_park_config(const std::string& path, VictoriaParkConfig& conf
 }
 
 void load_victoria_park_config(ConfigNode node, VictoriaParkConfig& config) {
-  node.read_choice("algorithm", config.algorithm,
-                   {"glmb2", "glmb1", "glmb-mh", "phd1", "phd3", "deadreckoning"});
+  node.read_choice(
+      "algorithm", config.algorithm,
+      {"glmb2", "glmb1", "glmb-mh", "phd1", "phd3", "deadreckoning", "lmb", "lmb1", "fastslam2"});
   if (node.has("initial_pose")) {
     std::vector<double> p;
     node.read("initial_pose", p);
@@ -65,6 +70,7 @@ void load_victoria_park_config(ConfigNode node, VictoriaParkConfig& config) {
   backend::load_mh_proposal_config(node.child("mh"), config.mh);
   backend::load_phd_config(node.child("phd"), config.phd);
   backend::load_phd_config(node.child("phd3"), config.phd3);
+  load_baseline_configs(node, config.baselines);
   node.finish();
 }
 

@@ -5,6 +5,7 @@
 
 #include <Eigen/Core>
 
+#include "app/baseline_configs.hpp"
 #include "backend/models/ackermann_motion.hpp"
 #include "backend/models/range_bearing_model.hpp"
 #include "backend/phd/phd_config.hpp"
@@ -17,7 +18,8 @@ namespace glmbslam::app {
 struct VictoriaParkConfig {
   /// glmb2 (optimal proposal), glmb1 (prior proposal), glmb-mh (multi-hypothesis proposal),
   /// phd1 (RB-PHD-SLAM 1.0, backend/phd), phd3 (PHD-SLAM 3.0: GM-PHD map + multi-hypothesis proposal),
-  /// deadreckoning (noise-free motion model)
+  /// deadreckoning (noise-free motion model), lmb / lmb1 (LMB-SLAM with the optimal / prior proposal),
+  /// fastslam2 (FastSLAM 2.0 with maximum-likelihood association)
   std::string algorithm = "glmb2";
   Eigen::Vector3d initial_pose{-67.6493, -41.7142, 35.5 * M_PI / 180.0};  ///< laser (x, y, φ) at t_0
   bool skip_empty_scans = true;  ///< scans without a real detection in view are not filter steps
@@ -30,6 +32,7 @@ struct VictoriaParkConfig {
   backend::MhProposalConfig mh;  ///< the multi-hypothesis proposal of glmb-mh and phd3
   backend::PhdConfig phd;        ///< phd1; particles and seed come from rbpf, proposal is 'prior'
   backend::PhdConfig phd3;       ///< phd3; particles and seed come from rbpf, proposal is 'mh'
+  BaselineConfigs baselines;     ///< lmb, lmb1, fastslam2 (sections "lmb", "fastslam")
   bool write_plot = true;
   int threads = 1;  ///< worker threads (0 = all cores); 1 = the published single-core protocol
 };

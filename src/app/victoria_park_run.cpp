@@ -33,6 +33,7 @@
 #include <spdlog/spdlog.h>
 #include <nlohmann/json.hpp>
 
+#include "app/baseline_filters.hpp"
 #include "app/run_options.hpp"
 #include "app/victoria_park_config.hpp"
 #include "app/victoria_park_data.hpp"
@@ -238,9 +239,11 @@ int run_victoria_park(const RunOptions& options) {
     if (a == "glmb_mh") a = "glmb-mh";  // the spelling of `glmbslam sim`
     if (a == "dr") a = "deadreckoning";
     if (a == "phd3_mh" || a == "phd-mh") a = "phd3";
-    if (a != "glmb2" && a != "glmb1" && a != "glmb-mh" && a != "phd1" && a != "phd3" && a != "deadreckoning")
+    if (a != "glmb2" && a != "glmb1" && a != "glmb-mh" && a != "phd1" && a != "phd3" &&
+        a != "deadreckoning" && a != "lmb" && a != "lmb1" && a != "fastslam2")
       throw ConfigError(
-          "--algorithm for Victoria Park must be glmb2, glmb1, glmb-mh, phd1, phd3 or deadreckoning (got '" +
+          "--algorithm for Victoria Park must be glmb2, glmb1, glmb-mh, phd1, phd3, lmb, lmb1, fastslam2 or "
+          "deadreckoning (got '" +
           a + "')");
     cfg.algorithm = a;
   }
@@ -288,6 +291,10 @@ int run_victoria_park(const RunOptions& options) {
     backend::validate_phd_config(phd);
     backend::PhdSlam<Motion, Meas> f(motion, model, phd, cfg.initial_pose, cfg.mh);
     rec = run_filter(f, controls, measurements, phd.particles);
+  } else if (is_baseline_algorithm(cfg.algorithm)) {
+    rec = with_baseline_filter(
+        cfg.algorithm, motion, model, cfg.rbpf, cfg.baselines, cfg.initial_pose,
+        [&](auto& f) { return run_filter(f, controls, measurements, cfg.rbpf.particles); });
   } else {
     backend::GlmbSlam<Motion, Meas> f(motion, model, cfg.rbpf, cfg.initial_pose, cfg.mh);
     rec = run_filter(f, controls, measurements, cfg.rbpf.particles);
