@@ -116,18 +116,23 @@ void check_finite_poses(const std::string& path, const PoseList& poses) {
 
 }  // namespace
 
+std::string kitti_pose_line(const Pose3& T) {
+  std::string line;
+  char buf[64];
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 4; ++c) {
+      std::snprintf(buf, sizeof buf, "%.9g", T.matrix()(r, c));
+      line += buf;
+      line += (r == 2 && c == 3) ? '\n' : ' ';
+    }
+  }
+  return line;
+}
+
 void write_kitti_poses(const std::string& path, const PoseList& poses) {
   check_finite_poses(path, poses);
   write_text_file_atomically(path, [&](std::ostream& out) {
-    char buf[64];
-    for (const auto& T : poses) {
-      for (int r = 0; r < 3; ++r) {
-        for (int c = 0; c < 4; ++c) {
-          std::snprintf(buf, sizeof buf, "%.9g", T.matrix()(r, c));
-          out << buf << ((r == 2 && c == 3) ? '\n' : ' ');
-        }
-      }
-    }
+    for (const auto& T : poses) out << kitti_pose_line(T);
   });
 }
 

@@ -29,6 +29,9 @@ Trajectory read_tum_trajectory(const std::string& path);
 /// Reads either format.
 Trajectory read_trajectory(const std::string& path, TrajectoryFormat format);
 
+/// One KITTI line for `T` (12 numbers, %.9g, ending in '\n'), as write_kitti_poses writes it.
+std::string kitti_pose_line(const Pose3& T);
+
 /// Writes KITTI format with 9 significant digits or more (%.9g), one line per pose; atomic.
 void write_kitti_poses(const std::string& path, const PoseList& poses);
 
