@@ -51,7 +51,8 @@ FrontendConfig load_frontend_config(ConfigNode& node) {
     n.read_in_range("refine_rounds", v.refine_rounds, 1, 10);
     n.read_in_range("max_iterations", v.max_iterations, 1, 1000);
     n.read("rematch_after_pnp", v.rematch_after_pnp);
-    n.read_in_range("repeated_image_mean_abs_diff", v.repeated_image_mean_abs_diff, 0.0, 255.0);
+    n.read_in_range("repeat_sigma_translation_m", v.repeat_sigma_translation_m, 1e-6, 1e3);
+    n.read_in_range("repeat_sigma_rotation_rad", v.repeat_sigma_rotation_rad, 1e-7, 3.2);
     n.read_in_range("fallback_covariance_scale", v.fallback_covariance_scale, 1.0, 1e6);
     n.read_in_range("fallback_sigma_translation_m", v.fallback_sigma_translation_m, 0.0, 1e3);
     n.read_in_range("fallback_sigma_rotation_rad", v.fallback_sigma_rotation_rad, 0.0, 3.2);

@@ -51,9 +51,11 @@ struct VoConfig {
   int refine_rounds = 2;                 ///< motion-only refinement solve / reject rounds
   int max_iterations = 10;               ///< solver iterations per round
   bool rematch_after_pnp = true;         ///< redo guided matching with the PnP pose before refinement
-  double repeated_image_mean_abs_diff =
-      0.5;                                  ///< left images closer than this (grey levels) count as repeated
-  double fallback_covariance_scale = 25.0;  ///< fallback Q = scale · last good Q + floor²
+  /// A byte-identical repeat of the previous stereo pair (a duplicated frame in a log) gets zero motion with
+  /// these standard deviations; a still scene is tracked like any other frame.
+  double repeat_sigma_translation_m = 0.001;
+  double repeat_sigma_rotation_rad = 0.0002;
+  double fallback_covariance_scale = 25.0;    ///< fallback Q = scale · last good Q + floor²
   double fallback_sigma_translation_m = 0.5;  ///< floor of the fallback standard deviation, translation
   double fallback_sigma_rotation_rad = 0.02;  ///< floor of the fallback standard deviation, rotation
 };

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <utility>
 
@@ -68,20 +69,45 @@ bool StereoVisualOdometry::pnp_ransac(const StereoFrameFeatures& frame, const st
 VoEstimate StereoVisualOdometry::fallback(VoStatus status) {
   VoEstimate e;
   e.status = status;
-  e.relative_pose = velocity_;
+  e.relative_pose = time_ratio_ == 1.0 ? velocity_ : se3_exp(time_ratio_ * se3_log(velocity_));
   Matrix6d floor = Matrix6d::Zero();
   const double st = config_.fallback_sigma_translation_m, sr = config_.fallback_sigma_rotation_rad;
   floor.diagonal() << st * st, st * st, st * st, sr * sr, sr * sr, sr * sr;
-  e.covariance = config_.fallback_covariance_scale * last_covariance_ + floor;
+  // an error δv of the velocity grows to (Δt/Δt_v)·δv over the elapsed time: covariance × ratio²
+  const double grow = std::max(1.0, time_ratio_ * time_ratio_);
+  e.covariance = grow * (config_.fallback_covariance_scale * last_covariance_ + floor);
   T_ref_prev_ = T_ref_prev_ * e.relative_pose;
+  previous_time_ = current_time_;
   return e;
 }
 
-VoEstimate StereoVisualOdometry::skip_frame(VoStatus reason) {
+VoEstimate StereoVisualOdometry::repeat() const {
+  VoEstimate e;
+  e.status = VoStatus::kRepeatedImage;
+  const double st = config_.repeat_sigma_translation_m, sr = config_.repeat_sigma_rotation_rad;
+  e.covariance.diagonal() << st * st, st * st, st * st, sr * sr, sr * sr, sr * sr;
+  return e;
+}
+
+Pose3 StereoVisualOdometry::predicted_motion(double timestamp) {
+  current_time_ = timestamp;
+  time_ratio_ = 1.0;
+  const double dt = timestamp - previous_time_;
+  if (std::isfinite(dt) && dt > 0.0 && std::isfinite(velocity_dt_) && velocity_dt_ > 0.0) {
+    time_ratio_ = std::min(dt / velocity_dt_, 20.0);
+  }
+  return time_ratio_ == 1.0 ? velocity_ : se3_exp(time_ratio_ * se3_log(velocity_));
+}
+
+VoEstimate StereoVisualOdometry::skip_frame(VoStatus reason, double timestamp) {
   Stopwatch sw;
   ++frames_;
+  predicted_motion(timestamp);
   VoEstimate e = frames_ == 1 ? VoEstimate{} : fallback(reason);
-  if (frames_ == 1) e.status = reason;
+  if (frames_ == 1) {
+    e.status = reason;
+    previous_time_ = timestamp;
+  }
   spdlog::warn("vo: frame {}: {} → constant-velocity fallback", frames_ - 1, to_string(reason));
   e.ms = sw.elapsed_ms();
   return e;
@@ -93,15 +119,33 @@ void StereoVisualOdometry::set_reference(const StereoFrameFeatures& frame) {
   T_ref_prev_ = Pose3::Identity();
 }
 
-bool StereoVisualOdometry::repeated_image(const StereoFrameFeatures& frame) {
-  if (frame.left.pyramid.empty()) return false;
-  const cv::Mat& top = frame.left.pyramid.back();
-  bool repeated = false;
-  if (!previous_thumbnail_.empty() && previous_thumbnail_.size() == top.size()) {
-    const double mad = cv::norm(top, previous_thumbnail_, cv::NORM_L1) / static_cast<double>(top.total());
-    repeated = mad < config_.repeated_image_mean_abs_diff;
+namespace {
+
+bool same_bytes(const cv::Mat& a, const cv::Mat& b) {
+  if (a.empty() || b.empty() || a.size() != b.size() || a.type() != b.type()) return false;
+  const std::size_t row_bytes = a.cols * a.elemSize();
+  for (int r = 0; r < a.rows; ++r) {
+    if (std::memcmp(a.ptr(r), b.ptr(r), row_bytes) != 0) return false;
   }
-  top.copyTo(previous_thumbnail_);
+  return true;
+}
+
+const cv::Mat& level0(const OrbFeatures& f) {
+  static const cv::Mat none;
+  return f.pyramid.empty() ? none : f.pyramid.front();
+}
+
+}  // namespace
+
+bool StereoVisualOdometry::repeated_image(const StereoFrameFeatures& frame) {
+  const cv::Mat &left = level0(frame.left), &right = level0(frame.right);
+  // both images byte-identical to the previous pair (a blank right image counts as identical to a blank one)
+  const bool repeated = same_bytes(left, previous_left_) &&
+                        (right.empty() ? previous_right_.empty() : same_bytes(right, previous_right_));
+  if (!repeated) {
+    left.copyTo(previous_left_);
+    right.copyTo(previous_right_);
+  }
   return repeated;
 }
 
@@ -169,7 +213,7 @@ std::vector<StereoVisualOdometry::Match> StereoVisualOdometry::guided_match(cons
   return matches;
 }
 
-VoEstimate StereoVisualOdometry::track(const StereoFrameFeatures& frame) {
+VoEstimate StereoVisualOdometry::track(const StereoFrameFeatures& frame, double timestamp) {
   Stopwatch sw;
   ++frames_;
   const std::size_t k = frames_ - 1;
@@ -177,21 +221,25 @@ VoEstimate StereoVisualOdometry::track(const StereoFrameFeatures& frame) {
     e.ms = sw.elapsed_ms();
     return e;
   };
-  const bool repeated = repeated_image(frame);
+  const bool repeated = k > 0 && repeated_image(frame);
+  if (k == 0) repeated_image(frame);  // remembers the pair
+  if (repeated) {
+    // the pose the images show is the previous one: zero motion; the clock of the prediction is not advanced
+    spdlog::info("vo: frame {}: stereo pair identical to the previous one → zero motion", k);
+    return finish(repeat());
+  }
+  const Pose3 velocity = predicted_motion(timestamp);
   const int min_measurements = std::max(config_.min_inliers, 8);
   if (!has_reference_) {
     if (static_cast<int>(frame.measurements.size()) >= min_measurements) set_reference(frame);
     VoEstimate e;
     e.status = VoStatus::kFirstFrame;
+    previous_time_ = timestamp;
     if (k > 0) {
       e = fallback(VoStatus::kNoFeatures);
       spdlog::warn("vo: frame {}: no usable reference yet → constant-velocity fallback", k);
     }
     return finish(e);
-  }
-  if (repeated) {
-    spdlog::warn("vo: frame {}: left image repeats the previous one → constant-velocity fallback", k);
-    return finish(fallback(VoStatus::kRepeatedImage));
   }
   if (static_cast<int>(frame.measurements.size()) < min_measurements) {
     spdlog::warn("vo: frame {}: {} stereo measurements → constant-velocity fallback", k,
@@ -203,7 +251,7 @@ VoEstimate StereoVisualOdometry::track(const StereoFrameFeatures& frame) {
   // left pixel). The wide window is used when the velocity is unknown, and tried again when the narrow one
   // finds too few matches or matches that PnP rejects (a sharp turn moves the features beyond the narrow
   // window, which then holds mostly wrong candidates).
-  const Pose3 T_pred = T_ref_prev_ * velocity_;
+  const Pose3 T_pred = T_ref_prev_ * velocity;
   std::vector<Match> matches;
   cv::Mat rvec, tvec;
   std::vector<int> pnp_inliers;
@@ -310,6 +358,9 @@ VoEstimate StereoVisualOdometry::track(const StereoFrameFeatures& frame) {
   last_T_ref_cur_ = res.T_ref_cur;
   last_T_ref_prev_ = T_ref_prev_;
   velocity_ = e.relative_pose;
+  const double dt = timestamp - previous_time_;
+  velocity_dt_ = std::isfinite(dt) && dt > 0.0 ? dt : std::nan("");
+  previous_time_ = timestamp;
   velocity_known_ = true;
   last_covariance_ = e.covariance;
   set_reference(frame);

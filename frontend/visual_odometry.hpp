@@ -2,9 +2,13 @@
 // Frame-to-frame stereo visual odometry: the previous good frame's triangulated points are matched into the
 // current left image (descriptor search around their projection with the constant-velocity prediction), an
 // EPnP + RANSAC pose seeds a motion-only refinement with the triangulation uncertainty folded into the
-// residual weights (stereo_pose_refiner.hpp) that gives the relative pose and its covariance. Hard frames (no
-// features, repeated image, too few matches or inliers, missing images) fall back to the constant-velocity
-// prediction with an inflated covariance; every frame gets exactly one estimate.
+// residual weights (stereo_pose_refiner.hpp) that gives the relative pose and its covariance. A still scene
+// is tracked like any other frame; only a byte-identical repeat of the previous pair (a duplicated frame in a
+// log) is a repeat: zero motion with a small covariance. Hard frames (no features, too few matches or
+// inliers, missing images) fall back to the constant-velocity prediction with an inflated covariance. With
+// timestamps, the prediction and the fallback covariance scale with the time since the previous frame (a
+// dropped frame); every frame gets exactly one estimate.
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -22,7 +26,7 @@ enum class VoStatus {
   kFirstFrame,     ///< first frame: identity, zero covariance
   kTracked,        ///< pose from PnP + refinement
   kNoFeatures,     ///< fallback: blank/empty image or too few stereo measurements
-  kRepeatedImage,  ///< fallback: the left image repeats the previous one
+  kRepeatedImage,  ///< byte-identical repeat of the previous pair: zero motion, small covariance
   kTooFewMatches,  ///< fallback: guided matching found too few correspondences
   kTooFewInliers,  ///< fallback: PnP or refinement kept too few inliers
   kMissingImage,   ///< fallback: the frame could not be loaded (see skip_frame)
@@ -40,7 +44,11 @@ struct VoEstimate {
   /// refinement inlier whose previous observation was stereo), or −1. Empty on a fallback.
   std::vector<int> previous_measurement;
   double ms = 0.0;  ///< wall time of track()
-  bool fallback() const { return status != VoStatus::kTracked && status != VoStatus::kFirstFrame; }
+  bool fallback() const {
+    return status != VoStatus::kTracked && status != VoStatus::kFirstFrame &&
+           status != VoStatus::kRepeatedImage;
+  }
+  bool repeated() const { return status == VoStatus::kRepeatedImage; }
 };
 
 class StereoVisualOdometry {
@@ -48,11 +56,12 @@ class StereoVisualOdometry {
   /// `scales` are the pyramid scales of the extractor (scale_factor^level).
   StereoVisualOdometry(const StereoCamera& camera, const VoConfig& config, std::vector<double> scales);
 
-  /// Estimates the motion from the previous frame to this one.
-  VoEstimate track(const StereoFrameFeatures& frame);
+  /// Estimates the motion from the previous frame to this one. `timestamp` (seconds; NaN: unknown, one
+  /// nominal frame interval) scales the constant-velocity prediction with the time elapsed.
+  VoEstimate track(const StereoFrameFeatures& frame, double timestamp = std::nan(""));
 
   /// A frame without usable images: constant-velocity fallback with status `reason`.
-  VoEstimate skip_frame(VoStatus reason = VoStatus::kMissingImage);
+  VoEstimate skip_frame(VoStatus reason = VoStatus::kMissingImage, double timestamp = std::nan(""));
 
   /// The last track()'s motion re-estimated without the points whose current measurement is flagged in
   /// `excluded` (index-aligned with that frame's measurements): the refinement restarted from the full
@@ -81,8 +90,12 @@ class StereoVisualOdometry {
   bool pnp_ransac(const StereoFrameFeatures& frame, const std::vector<Match>& matches, std::size_t k,
                   cv::Mat& rvec, cv::Mat& tvec, std::vector<int>& inliers) const;
   VoEstimate fallback(VoStatus status);
+  VoEstimate repeat() const;
   void set_reference(const StereoFrameFeatures& frame);
   bool repeated_image(const StereoFrameFeatures& frame);
+  /// Sets the elapsed-time ratio of the current frame: (timestamp − previous frame's) / the interval of the
+  /// last velocity (1 when either is unknown), and returns the constant-velocity motion over that time.
+  Pose3 predicted_motion(double timestamp);
 
   StereoCamera camera_;
   VoConfig config_;
@@ -92,6 +105,10 @@ class StereoVisualOdometry {
   Reference ref_;
   Pose3 T_ref_prev_ = Pose3::Identity();  ///< previous output frame expressed in the reference frame
   Pose3 velocity_ = Pose3::Identity();    ///< last relative motion (constant-velocity model)
+  double velocity_dt_ = std::nan("");     ///< the time that motion took (NaN: unknown)
+  double previous_time_ = std::nan("");   ///< timestamp of the previous output pose (a repeat keeps it)
+  double current_time_ = std::nan("");    ///< timestamp of the frame being tracked
+  double time_ratio_ = 1.0;               ///< elapsed time of the frame being tracked / velocity_dt_
   Matrix6d last_covariance_ = Matrix6d::Zero();
   bool velocity_known_ = false;
   // The last successful track(): its refinement input, the current measurement of each point (−1: mono),
@@ -100,7 +117,7 @@ class StereoVisualOdometry {
   std::vector<int> last_tracked_current_;
   Pose3 last_T_ref_cur_ = Pose3::Identity();
   Pose3 last_T_ref_prev_ = Pose3::Identity();
-  cv::Mat previous_thumbnail_;  ///< small copy of the previous left image (repeat detection)
+  cv::Mat previous_left_, previous_right_;  ///< copies of the previous pair (repeat detection)
 };
 
 }  // namespace glmbslam::frontend

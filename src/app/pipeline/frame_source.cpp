@@ -1,5 +1,7 @@
 #include "app/pipeline/frame_source.hpp"
 
+#include <cmath>
+
 #include "core/error.hpp"
 #include "core/stopwatch.hpp"
 
@@ -16,6 +18,8 @@ FrameSource::~FrameSource() {
 FrameWork FrameSource::process(std::size_t index) const {
   FrameWork w;
   w.index = index;
+  const auto& times = dataset_.timestamps();
+  w.timestamp = index < times.size() ? times[index] : std::nan("");
   Stopwatch watch;
   try {
     const io::StereoFrame frame = dataset_.load(index);

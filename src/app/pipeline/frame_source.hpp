@@ -14,8 +14,9 @@ namespace glmbslam::app {
 
 /// The frontend's output for one frame.
 struct FrameWork {
-  std::size_t index = 0;  ///< frame index in the dataset
-  bool loaded = false;    ///< false: the images could not be read (load_error says why)
+  std::size_t index = 0;   ///< frame index in the dataset
+  double timestamp = 0.0;  ///< seconds (the dataset's timestamps)
+  bool loaded = false;     ///< false: the images could not be read (load_error says why)
   std::string load_error;
   frontend::StereoFrameFeatures features;
   double frontend_ms = 0.0;  ///< load + frontend wall time

@@ -62,6 +62,9 @@ void StereoPipeline::run(RunRecord& record, const std::function<bool()>& stop) {
   record.wall_s = wall.elapsed_ms() / 1000.0;
   record.vo_fallbacks = vo_.fallbacks();
   record.missing_frames = vo_.missing();
+  if (vo_.repeated() > 0) {
+    spdlog::info("{} frames repeated the previous stereo pair byte for byte (zero motion)", vo_.repeated());
+  }
   if (vo_.fallbacks() + vo_.missing() > 0) {
     spdlog::info("VO fell back to constant velocity on {} frames ({} could not be loaded)",
                  vo_.fallbacks() + vo_.missing(), vo_.missing());

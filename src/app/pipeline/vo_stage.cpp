@@ -11,9 +11,11 @@ const frontend::VoEstimate& VoStage::track(const FrameWork& work, std::size_t k)
   if (!work.loaded) {
     ++missing_;
     spdlog::warn("frame {}: {} — constant-velocity fallback, no measurements", work.index, work.load_error);
-    estimate_ = k == 0 ? frontend::VoEstimate{} : vo_.skip_frame(frontend::VoStatus::kMissingImage);
+    estimate_ =
+        k == 0 ? frontend::VoEstimate{} : vo_.skip_frame(frontend::VoStatus::kMissingImage, work.timestamp);
   } else {
-    estimate_ = vo_.track(work.features);
+    estimate_ = vo_.track(work.features, work.timestamp);
+    if (estimate_.repeated()) ++repeated_;
     if (estimate_.fallback()) {
       ++fallbacks_;
       spdlog::debug("frame {}: VO fallback ({})", work.index, frontend::to_string(estimate_.status));

@@ -13,8 +13,8 @@ class VoStage {
  public:
   VoStage(const frontend::StereoFrontend& frontend, const frontend::VoConfig& config);
 
-  /// Tracks frame `work` (the run's k-th frame) and accumulates the VO pose. An unreadable frame gets the
-  /// constant-velocity fallback (identity at k = 0).
+  /// Tracks frame `work` (the run's k-th frame, at work.timestamp) and accumulates the VO pose. An unreadable
+  /// frame gets the constant-velocity fallback over its elapsed time (identity at k = 0).
   const frontend::VoEstimate& track(const FrameWork& work, std::size_t k);
 
   const frontend::VoEstimate& estimate() const { return estimate_; }
@@ -23,12 +23,13 @@ class VoStage {
   const frontend::StereoVisualOdometry& odometry() const { return vo_; }
   std::size_t fallbacks() const { return fallbacks_; }  ///< frames tracked without a VO solution
   std::size_t missing() const { return missing_; }      ///< frames whose images could not be read
+  std::size_t repeated() const { return repeated_; }    ///< byte-identical repeats of the previous pair
 
  private:
   frontend::StereoVisualOdometry vo_;
   frontend::VoEstimate estimate_;
   Pose3 pose_ = Pose3::Identity();
-  std::size_t fallbacks_ = 0, missing_ = 0;
+  std::size_t fallbacks_ = 0, missing_ = 0, repeated_ = 0;
 };
 
 }  // namespace glmbslam::app
