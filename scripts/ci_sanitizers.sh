@@ -1,0 +1,25 @@
+#!/usr/bin/env bash
+# CI stage: AddressSanitizer + UndefinedBehaviorSanitizer build of the application and the whole test suite, in
+# its own build folder, then ctest on it. Any ASan or UBSan report fails the stage (UBSan errors are fatal:
+# -fno-sanitize-recover=all; ASan aborts on its first error).
+#
+# Usage: scripts/ci_sanitizers.sh [ctest args...]   e.g. scripts/ci_sanitizers.sh -L smoke
+# Environment: GLMBSLAM_ASAN_BUILD_DIR (default build-asan), JOBS (default: nproc)
+set -euo pipefail
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+build="${GLMBSLAM_ASAN_BUILD_DIR:-$root/build-asan}"
+jobs="${JOBS:-$(nproc)}"
+flags="-fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer -g1"
+start=$(date +%s)
+cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DGLMBSLAM_BUILD_TESTS=ON \
+  -DGLMBSLAM_BUILD_BENCH=OFF -DCMAKE_CXX_FLAGS="$flags" -DCMAKE_C_FLAGS="$flags" \
+  -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined" >/dev/null
+cmake --build "$build" -j "$jobs"
+built=$(date +%s)
+# Leaks are reported too (LeakSanitizer).
+export ASAN_OPTIONS="detect_leaks=1:abort_on_error=1:strict_string_checks=1:detect_stack_use_after_return=0"
+export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
+cd "$build"
+ctest --output-on-failure -j "$jobs" "$@"
+end=$(date +%s)
+echo "ci_sanitizers: build $((built - start)) s, tests $((end - built)) s"
