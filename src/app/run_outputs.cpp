@@ -68,6 +68,9 @@ void write_run_outputs(const std::string& out_dir, const RunRecord& r, bool plot
   j["seed"] = r.seed;
   j["first_frame"] = r.first_frame;
   j["frames"] = r.slam_poses.size();
+  j["frames_requested"] = r.frames_requested;
+  j["interrupted"] = r.interrupted;
+  if (r.interrupted && !r.slam_poses.empty()) j["last_frame_done"] = r.first_frame + r.slam_poses.size() - 1;
   std::string table;
   std::optional<eval::TrajectoryEvaluation> slam_evaluation, vo_evaluation;
   if (r.ground_truth) {
@@ -121,6 +124,9 @@ void write_run_outputs(const std::string& out_dir, const RunRecord& r, bool plot
   write_run_report((dir / "report.html").string(), r, j, slam_evaluation ? &*slam_evaluation : nullptr,
                    vo_evaluation ? &*vo_evaluation : nullptr);
 
+  if (r.interrupted) {
+    std::printf("\ninterrupted: %zu of %zu frames done\n", r.slam_poses.size(), r.frames_requested);
+  }
   std::printf("\n%s", table.c_str());
   std::printf(
       "\nframes %zu, %.2f fps (frontend median %.1f ms, VO %.1f ms, backend %.1f ms), map %zu landmarks\n",

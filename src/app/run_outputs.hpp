@@ -8,6 +8,9 @@
 //                       `filter`
 //   config_used.yaml    the effective configuration
 //   plots/              trajectories vs ground truth, errors, map top view (PNG)
+// An interrupted run (SIGINT/SIGTERM) writes the same files for the frames it finished: the trajectories hold
+// one pose per finished frame and metrics.json says "interrupted": true with the frames requested and the
+// last frame done.
 #include <string>
 #include <vector>
 
@@ -34,6 +37,8 @@ struct RunRecord {
   std::vector<bool> resampled;
   std::size_t vo_fallbacks = 0;
   std::size_t missing_frames = 0;
+  bool interrupted = false;          ///< stopped by SIGINT/SIGTERM before the last requested frame
+  std::size_t frames_requested = 0;  ///< frames of the requested range (the record holds fewer if interrupted)
   double wall_s = 0.0;
   std::string effective_config;
 };

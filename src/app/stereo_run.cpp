@@ -7,11 +7,13 @@
 #include <yaml-cpp/yaml.h>
 
 #include "app/pipeline/stereo_pipeline.hpp"
+#include "app/pipeline/trajectory_stream_stage.hpp"
 #include "app/run_options.hpp"
 #include "app/run_outputs.hpp"
 #include "app/stereo_config.hpp"
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
+#include "core/interrupt.hpp"
 #include "io/trajectory_io.hpp"
 
 namespace glmbslam::app {
@@ -66,13 +68,20 @@ int run_stereo(const RunOptions& options) {
                config.rbpf.particles, config.rbpf.seed);
 
   StereoPipeline pipeline(*dataset, calibration, config, first, last);
+  pipeline.add_stage(std::make_unique<TrajectoryStreamStage>(options.out_dir));
   RunRecord record;
-  pipeline.run(record);
+  set_graceful_interrupts(true);  // SIGINT/SIGTERM: stop at the next frame boundary and write what we have
+  pipeline.run(record, [] { return interrupt_requested(); });
+  record.frames_requested = frames;
+  record.interrupted = pipeline.frames_done() < frames;
+  const std::size_t done = pipeline.frames_done();
+  if (record.interrupted)
+    spdlog::warn("interrupted after {} of {} frames; writing their outputs", done, frames);
 
-  if (dataset->ground_truth()) {
+  if (dataset->ground_truth() && done >= 2) {
     const PoseList& gt = *dataset->ground_truth();
     record.ground_truth = io::relative_to_first(
-        PoseList(gt.begin() + static_cast<long>(first), gt.begin() + static_cast<long>(last)));
+        PoseList(gt.begin() + static_cast<long>(first), gt.begin() + static_cast<long>(first + done)));
   }
   record.dataset_name = dataset->name();
   record.algorithm = config.pipeline.algorithm;
@@ -86,6 +95,7 @@ int run_stereo(const RunOptions& options) {
             << YAML::Dump(root) << "\n";
   record.effective_config = effective.str();
   write_run_outputs(options.out_dir, record, config.pipeline.write_plots);
+  remove_streamed_trajectories(options.out_dir);
   return 0;
 }
 
