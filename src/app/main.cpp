@@ -6,7 +6,9 @@
 #include <CLI/CLI.hpp>
 
 #include "app/commands.hpp"
+#include "app/global_options.hpp"
 #include "core/error.hpp"
+#include "core/interrupt.hpp"
 #include "core/logging.hpp"
 #include "core/parallel.hpp"
 
@@ -18,10 +20,13 @@ int main(int argc, char** argv) {
   std::string log_level = "info";
   int threads = 0;
   app.add_option("--log-level", log_level, "trace, debug, info, warn, error or off")->capture_default_str();
-  app.add_option("--threads", threads, "worker threads (0 = all cores)")->capture_default_str();
+  auto* threads_option =
+      app.add_option("--threads", threads, "worker threads (0 = all cores; overrides a config's threads:)")
+          ->capture_default_str();
   app.parse_complete_callback([&] {
     glmbslam::set_log_level(log_level);
     glmbslam::set_thread_count(threads);
+    if (threads_option->count() > 0) glmbslam::app::global_options().threads = threads;
   });
 
   glmbslam::app::register_run_command(app);
@@ -30,6 +35,8 @@ int main(int argc, char** argv) {
   glmbslam::app::register_vo_command(app);
   glmbslam::app::register_sim_command(app);
 
+  // SIGINT/SIGTERM stop a run at its next frame boundary; it writes what it has and exits 130/143.
+  glmbslam::install_interrupt_handlers();
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -44,5 +51,5 @@ int main(int argc, char** argv) {
     spdlog::error("{}", e.what());
     return 1;
   }
-  return 0;
+  return glmbslam::interrupt_exit_code();
 }
