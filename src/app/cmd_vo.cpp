@@ -8,7 +8,9 @@
 // interactive report, app/run_report.hpp). A frame whose images
 // cannot be loaded (missing, corrupt, wrong size) is reported and replaced by the VO's constant-velocity
 // fallback, so the trajectory keeps one pose per frame; the command fails only if no frame at all can be
-// loaded.
+// loaded. The poses are also streamed to vo_trajectory.streaming.txt (one line per frame, synced; removed
+// once the final files are written); SIGINT/SIGTERM stop at the next frame and write the outputs of the frames
+// done ("interrupted": true in metrics.json), then exit with code 130/143 (core/interrupt.hpp).
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
@@ -24,10 +26,12 @@
 #include <opencv2/imgproc.hpp>
 
 #include "app/commands.hpp"
+#include "app/pipeline/trajectory_stream_stage.hpp"
 #include "app/run_report.hpp"
 #include "core/atomic_file.hpp"
 #include "core/config_node.hpp"
 #include "core/error.hpp"
+#include "core/interrupt.hpp"
 #include "core/lie.hpp"
 #include "core/progress.hpp"
 #include "core/stopwatch.hpp"
@@ -134,17 +138,20 @@ void run_vo(const VoArgs& a) {
   const std::filesystem::path out(a.out);
   ensure_writable_directory(out);
   const auto [first, last] = parse_range(a.frames, dataset->size());
-  const std::size_t n = last - first;
+  const std::size_t requested = last - first;
   spdlog::info("vo: {} ({} frames, using {}..{})", dataset->name(), dataset->size(), first, last - 1);
 
   const StereoCalibration& calib = dataset->calibration();
   const frontend::StereoFrontend fe(calib, config);
   frontend::StereoVisualOdometry vo(fe.camera(), config.vo, fe.extractor().scales());
   const std::size_t sample =
-      a.sample_frame >= 0 ? std::min<std::size_t>(static_cast<std::size_t>(a.sample_frame), n - 1) : n / 2;
+      a.sample_frame >= 0 ? std::min<std::size_t>(static_cast<std::size_t>(a.sample_frame), requested - 1)
+                          : requested / 2;
 
   PoseList poses;
-  poses.reserve(n);
+  poses.reserve(requested);
+  StreamedLines streamed(out / kStreamedVoTrajectoryFile);
+  set_graceful_interrupts(true);
   Pose3 T = Pose3::Identity();
   std::vector<double> load_ms, frontend_ms, extract_ms, match_ms, vo_ms, total_ms;
   std::vector<frontend::VoEstimate> estimates;
@@ -154,7 +161,7 @@ void run_vo(const VoArgs& a) {
   bool png_written = false;
   Stopwatch all;
   ProgressReporter progress(last - first, "vo");
-  for (std::size_t i = first; i < last; ++i) {
+  for (std::size_t i = first; i < last && !interrupt_requested(); ++i) {
     progress.update(i - first);
     Stopwatch sw;
     std::optional<io::StereoFrame> frame;
@@ -186,6 +193,7 @@ void run_vo(const VoArgs& a) {
     total_ms.push_back(sw.elapsed_ms());
     T = T * est.relative_pose;
     poses.push_back(T);
+    streamed.append(io::kitti_pose_line(T));
     estimates.push_back(est);
     measurement_counts.push_back(measurements);
     ++status_counts[frontend::to_string(est.status)];
@@ -194,6 +202,12 @@ void run_vo(const VoArgs& a) {
   }
   progress.finish();
   const double wall_s = all.elapsed_ms() / 1000.0;
+  const std::size_t n = poses.size();
+  const bool interrupted = n < requested;
+  if (interrupted) {
+    spdlog::warn("vo: interrupted after {} of {} frames; writing their outputs", n, requested);
+    if (n == 0) return;
+  }
   if (loaded == 0) throw InputError(a.dataset, "no frame of the range could be loaded");
 
   io::write_kitti_poses((out / "vo_trajectory.txt").string(), poses);
@@ -212,12 +226,14 @@ void run_vo(const VoArgs& a) {
   j["dataset"] = dataset->name();
   j["frames"] = n;
   j["first_frame"] = first;
+  j["frames_requested"] = requested;
+  j["interrupted"] = interrupted;
   std::optional<PoseList> gt;
   std::optional<eval::TrajectoryEvaluation> evaluation;
   if (dataset->ground_truth()) {
     const PoseList& full = *dataset->ground_truth();
     gt = io::relative_to_first(PoseList(full.begin() + static_cast<std::ptrdiff_t>(first),
-                                        full.begin() + static_cast<std::ptrdiff_t>(last)));
+                                        full.begin() + static_cast<std::ptrdiff_t>(first + n)));
     const eval::TrajectoryEvaluation& e = evaluation.emplace(eval::evaluate_trajectory(*gt, poses));
     j.update(eval::to_json(e));
     const double end_error = (gt->back().translation() - poses.back().translation()).norm();
@@ -255,6 +271,7 @@ void run_vo(const VoArgs& a) {
     report.config.assign(std::istreambuf_iterator<char>(config), std::istreambuf_iterator<char>());
   }
   write_vo_report((out / "report.html").string(), report, j);
+  remove_streamed_trajectories(out);
   spdlog::info("vo: wrote {} poses to {}; report {}", poses.size(), (out / "vo_trajectory.txt").string(),
                (out / "report.html").string());
 }
