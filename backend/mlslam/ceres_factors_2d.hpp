@@ -1,0 +1,109 @@
+#pragma once
+// Ceres factors of the 2D M-step (digest 3.5 option B): the SE(2) pose manifold, the motion factor of the
+// odometry (paper 004 Eq. 2, whitened by the process covariance of the motion model) and the
+// responsibility-weighted measurement factor √β · R^{-1/2} (z − ẑ(x, m)) (Eq. 3 weighted by the E-step's β).
+#include <cmath>
+
+#include <ceres/ceres.h>
+#include <Eigen/Cholesky>
+#include <Eigen/Core>
+
+#include "core/lie.hpp"
+
+namespace glmbslam::backend {
+
+/// (x, y, θ) with x ⊕ δ = (x + δ_x, y + δ_y, wrap(θ + δ_θ)): the 2D poses' convention (Pose2Manifold).
+class Pose2CeresManifold : public ceres::Manifold {
+ public:
+  int AmbientSize() const override { return 3; }
+  int TangentSize() const override { return 3; }
+  bool Plus(const double* x, const double* delta, double* x_plus_delta) const override {
+    x_plus_delta[0] = x[0] + delta[0];
+    x_plus_delta[1] = x[1] + delta[1];
+    x_plus_delta[2] = wrap_angle(x[2] + delta[2]);
+    return true;
+  }
+  bool PlusJacobian(const double* /*x*/, double* jacobian) const override {
+    Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(jacobian).setIdentity();
+    return true;
+  }
+  bool Minus(const double* y, const double* x, double* y_minus_x) const override {
+    y_minus_x[0] = y[0] - x[0];
+    y_minus_x[1] = y[1] - x[1];
+    y_minus_x[2] = wrap_angle(y[2] - x[2]);
+    return true;
+  }
+  bool MinusJacobian(const double* /*x*/, double* jacobian) const override {
+    Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(jacobian).setIdentity();
+    return true;
+  }
+};
+
+/// Inverse of the lower Cholesky factor of a covariance: W with Wᵀ W = S^{-1}.
+template <class Matrix>
+typename Matrix::PlainObject whitening(const Matrix& S) {
+  using Plain = typename Matrix::PlainObject;
+  const Eigen::LLT<Plain> llt(S);
+  return llt.matrixL().solve(Plain::Identity(S.rows(), S.cols()));
+}
+
+/// r = W (x_i ⊖ f(x_{i−1}, u)) for any 2D motion model (numeric derivatives: the models are double-only).
+template <class Motion>
+struct MotionResidual {
+  const Motion* motion;
+  typename Motion::Control u;
+  typename Motion::Covariance W;
+  bool operator()(const double* prev, const double* cur, double* r) const {
+    const typename Motion::State a(prev[0], prev[1], prev[2]), b(cur[0], cur[1], cur[2]);
+    Eigen::Map<Eigen::Vector3d> residual(r);
+    residual = W * Motion::local(b, motion->predict(a, u));
+    return true;
+  }
+};
+
+template <class Motion>
+ceres::CostFunction* make_motion_factor(const Motion& motion, const typename Motion::Control& u,
+                                        const typename Motion::Covariance& W) {
+  return new ceres::NumericDiffCostFunction<MotionResidual<Motion>, ceres::CENTRAL, 3, 3, 3>(
+      new MotionResidual<Motion>{&motion, u, W});
+}
+
+/// r = √β W (z − ẑ(x, m)) with the model's analytic Jacobians (H_x is w.r.t. the pose tangent, which is the
+/// additive one of Pose2CeresManifold).
+template <class Model>
+class WeightedMeasurementFactor
+    : public ceres::SizedCostFunction<Model::kMeasDim, Model::kPoseDim, Model::kLandmarkDim> {
+ public:
+  WeightedMeasurementFactor(const Model& model, const typename Model::Measurement& z,
+                            const typename Model::MeasurementCovariance& W, double beta)
+      : model_(model), z_(z), W_(std::sqrt(beta) * W) {}
+  bool Evaluate(double const* const* p, double* residuals, double** jacobians) const override {
+    const typename Model::Pose x = Eigen::Map<const typename Model::Pose>(p[0]);
+    const typename Model::Landmark m = Eigen::Map<const typename Model::Landmark>(p[1]);
+    typename Model::PoseJacobian Hx;
+    typename Model::LandmarkJacobian Hm;
+    const auto zhat = model_.linearize(x, m, &Hx, &Hm);
+    Eigen::Map<typename Model::Measurement> r(residuals);
+    r = W_ * model_.residual(z_, zhat);
+    if (jacobians != nullptr) {
+      using JacX = Eigen::Matrix<double, Model::kMeasDim, Model::kPoseDim, Eigen::RowMajor>;
+      using JacM = Eigen::Matrix<double, Model::kMeasDim, Model::kLandmarkDim, Eigen::RowMajor>;
+      if (jacobians[0] != nullptr) {
+        Eigen::Map<JacX> J(jacobians[0]);
+        J = -W_ * Hx;
+      }
+      if (jacobians[1] != nullptr) {
+        Eigen::Map<JacM> J(jacobians[1]);
+        J = -W_ * Hm;
+      }
+    }
+    return true;
+  }
+
+ private:
+  const Model& model_;
+  typename Model::Measurement z_;
+  typename Model::MeasurementCovariance W_;
+};
+
+}  // namespace glmbslam::backend

@@ -1,0 +1,43 @@
+#pragma once
+// Settings of RFS maximum-likelihood SLAM (paper 004, solved as EM / iteratively reweighted least squares;
+// backend/mlslam/README.md). Every member is documented where it is declared; load_mlslam_config reads the
+// YAML mapping "mlslam" (unknown keys are errors).
+#include <string>
+
+#include "core/config_node.hpp"
+
+namespace glmbslam::backend {
+
+struct MlSlamConfig {
+  /// "rfs": associations summed out (Eq. 7); "nearest_neighbour": the vector ML baseline (Eq. 4) with hard
+  /// nearest-neighbour associations re-made every round and a landmark for every unassociated measurement.
+  std::string association = "rfs";
+  int max_rounds = 30;               ///< EM rounds (E-step + M-step), cardinality moves included
+  double tolerance = 1e-4;           ///< stop when the log-likelihood rises by less than this (nats)
+  int solver_iterations = 10;        ///< Levenberg–Marquardt iterations per M-step
+  int max_assignments = 50;          ///< Murty: ranked assignments per independent block of a scan
+  double assignment_log_gap = 9.2;   ///< Murty: stop below e^{-gap} of the best assignment's weight
+  double gate = 16.0;                ///< squared Mahalanobis gate of a landmark-measurement pair
+  double min_responsibility = 1e-4;  ///< β below this contributes no M-step residual
+  /// Smooth field-of-view border (digest 3.5): p_D falls as a logistic of the distance to the border with
+  /// these widths; ≤ 0 = the sensor's noise std (σ_r, σ_b).
+  double border_range_m = 0.0;
+  double border_bearing_rad = 0.0;
+  bool cardinality_moves = true;      ///< births, deaths and merges between EM rounds (kept if l rises)
+  double birth_responsibility = 0.5;  ///< a measurement is unexplained when its clutter responsibility ≥ this
+  /// Unexplained measurements closer than this form one birth candidate; ≤ 0 = 10 σ_r.
+  double birth_radius_m = 0.0;
+  int birth_min_support = 2;      ///< a birth candidate needs this many unexplained measurements
+  double death_ratio = 0.5;       ///< try removing a landmark detected < ratio × its expected detections
+  double merge_distance_m = 0.0;  ///< try merging landmarks closer than this; ≤ 0 = 10 σ_r
+  /// Standalone: solve on steps 0..k every this many steps, each new stretch dead-reckoned from the last
+  /// refined pose (0 = one batch from the odometry, which can stay stuck where the drift exceeds the gate).
+  int incremental_steps = 5;
+};
+
+void load_mlslam_config(ConfigNode node, MlSlamConfig& config);
+
+/// Throws ConfigError if a value is inconsistent.
+void validate_mlslam_config(const MlSlamConfig& config);
+
+}  // namespace glmbslam::backend

@@ -1,0 +1,509 @@
+#pragma once
+// RFS maximum-likelihood SLAM (paper 004) for 2D range-bearing models, solved as in digest 3.5 option B:
+// maximise the log-likelihood of Eq. 8,
+//   l(x_{1:k}, M) = Σ_{i=1}^k log g(x_i | x_{i−1}, u_i) + Σ_{i=0}^k log p(Z_i | x_i, M)      (Eq. 6–8)
+// over the trajectory (x_0 held) and the landmark set M, associations summed out (Eq. 7,
+// scan_likelihood.hpp), by expectation–maximisation:
+//   E-step: marginal association probabilities β_mn^i at the current estimate (ranked assignments per
+//           independent block of each scan);
+//   M-step: Levenberg–Marquardt (Ceres) on Σ_i ‖x_i ⊖ f(x_{i−1}, u_i)‖²_{P̄} + Σ_i Σ_{m,n} β_mn^i ‖z_n −
+//   ẑ(x_i,
+//           m)‖²_R, whose gradient at the linearisation point equals ∇l (Eq. 17–18);
+// and cardinality moves between rounds (births from unexplained measurements, deaths of landmarks detected
+// far less often than p_D predicts, merges of close landmarks), each kept only if l rises (evaluated on the
+// scans that see the landmark). A step that lowers l is undone and the solve stops.
+//
+// association = "nearest_neighbour" is the vector ML baseline (Eq. 4): every measurement is assigned to the
+// nearest landmark (Mahalanobis, within the gate), unassigned measurements become landmarks, and the
+// objective is the least-squares cost; associations are re-made every round.
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <unordered_map>
+#include <vector>
+
+#include <ceres/ceres.h>
+#include <Eigen/Core>
+#include <Eigen/StdVector>
+
+#include "backend/mlslam/ceres_factors_2d.hpp"
+#include "backend/mlslam/mlslam_config.hpp"
+#include "backend/mlslam/scan_likelihood.hpp"
+#include "backend/mlslam/smooth_detection.hpp"
+#include "core/parallel.hpp"
+#include "core/stopwatch.hpp"
+
+namespace glmbslam::backend {
+
+struct MlSlamReport {
+  int rounds = 0;
+  double initial_log_likelihood = 0.0;
+  double final_log_likelihood = 0.0;
+  std::vector<double> log_likelihood_per_round;  ///< l after each round (the objective being maximised)
+  int births = 0, deaths = 0, merges = 0;        ///< accepted cardinality moves
+  double ms = 0.0;
+};
+
+template <class Motion, class Model>
+class RfsMlSlam {
+ public:
+  using Pose = typename Model::Pose;
+  using Control = typename Motion::Control;
+  using Landmark = typename Model::Landmark;
+  using Measurement = typename Model::Measurement;
+  using PoseList = std::vector<Pose, Eigen::aligned_allocator<Pose>>;
+  using LandmarkList = std::vector<Landmark, Eigen::aligned_allocator<Landmark>>;
+  using MeasurementSet = std::vector<Measurement, Eigen::aligned_allocator<Measurement>>;
+  using ControlList = std::vector<Control, Eigen::aligned_allocator<Control>>;
+
+  /// Throws ConfigError on an invalid config.
+  RfsMlSlam(const Motion& motion, const Model& model, const MlSlamConfig& config)
+      : motion_(motion),
+        model_(model),
+        config_(config),
+        p_D_(model, config.border_range_m, config.border_bearing_rad) {
+    validate_mlslam_config(config_);
+    const double sigma_r = std::sqrt(model.noise()(0, 0));
+    if (config_.birth_radius_m <= 0.0) config_.birth_radius_m = 10.0 * sigma_r;
+    if (config_.merge_distance_m <= 0.0) config_.merge_distance_m = 10.0 * sigma_r;
+  }
+
+  /// Refines `poses` (x_0..x_K; x_0 held) and `map` in place. controls[k] drives x_{k−1} to x_k (controls[0]
+  /// unused); scans[k] = Z_k. Returns the solve's statistics.
+  MlSlamReport solve(PoseList& poses, const ControlList& controls, const std::vector<MeasurementSet>& scans,
+                     LandmarkList& map) const {
+    check_sizes(poses, controls, scans);
+    Stopwatch watch;
+    State s{poses, map, {}, {}};
+    MlSlamReport report;
+    e_step(s, controls, scans);
+    report.initial_log_likelihood = s.log_likelihood;
+    double l = s.log_likelihood;
+    for (int round = 0; round < config_.max_rounds; ++round) {
+      State next = s;
+      m_step(next, controls, scans);
+      if (nearest_neighbour()) add_unassigned_as_landmarks(next, scans);
+      e_step(next, controls, scans);
+      // the M-step holds p_D fixed: if l fell, step back towards the previous estimate (halving)
+      for (int halving = 0; halving < 3 && !nearest_neighbour() && !(next.log_likelihood > l); ++halving) {
+        blend_towards(s, next);
+        e_step(next, controls, scans);
+      }
+      const bool improved = next.log_likelihood > l;
+      if (improved || nearest_neighbour()) s = std::move(next);
+      int accepted = 0;
+      if (config_.cardinality_moves && !nearest_neighbour()) accepted = cardinality_moves(s, scans, report);
+      ++report.rounds;
+      const double gain = s.log_likelihood - l;
+      l = s.log_likelihood;
+      report.log_likelihood_per_round.push_back(l);
+      if (accepted == 0 && (!improved || std::abs(gain) < config_.tolerance)) break;
+    }
+    report.final_log_likelihood = l;
+    report.ms = watch.elapsed_ms();
+    poses = std::move(s.poses);
+    map = std::move(s.map);
+    return report;
+  }
+
+  /// Standalone (paper 004's setting): the trajectory initialised by dead reckoning from x_0, the map from
+  /// the measurements (births). With config.incremental_steps > 0 the problem grows by that many steps at a
+  /// time, each new stretch of trajectory dead-reckoned from the last refined pose.
+  MlSlamReport solve_from_odometry(const Pose& x0, const ControlList& controls,
+                                   const std::vector<MeasurementSet>& scans, PoseList& poses,
+                                   LandmarkList& map) const {
+    const std::size_t K = scans.size();
+    poses.assign(1, x0);
+    map.clear();
+    if (nearest_neighbour()) initial_map_from_scan(x0, scans.front(), map);
+    const std::size_t chunk = config_.incremental_steps > 0
+                                  ? static_cast<std::size_t>(config_.incremental_steps)
+                                  : std::max<std::size_t>(K, 1);
+    MlSlamReport total;
+    Stopwatch watch;
+    for (std::size_t end = std::min(K, chunk + 1);; end = std::min(K, end + chunk)) {
+      while (poses.size() < end) poses.push_back(motion_.predict(poses.back(), controls[poses.size()]));
+      const ControlList u(controls.begin(), controls.begin() + static_cast<std::ptrdiff_t>(end));
+      const std::vector<MeasurementSet> z(scans.begin(), scans.begin() + static_cast<std::ptrdiff_t>(end));
+      const MlSlamReport r = solve(poses, u, z, map);
+      if (total.rounds == 0) total.initial_log_likelihood = r.initial_log_likelihood;
+      total.rounds += r.rounds;
+      total.births += r.births;
+      total.deaths += r.deaths;
+      total.merges += r.merges;
+      total.final_log_likelihood = r.final_log_likelihood;
+      total.log_likelihood_per_round.insert(total.log_likelihood_per_round.end(),
+                                            r.log_likelihood_per_round.begin(),
+                                            r.log_likelihood_per_round.end());
+      if (end == K) break;
+    }
+    total.ms = watch.elapsed_ms();
+    return total;
+  }
+
+  /// l of Eq. 8 (RFS) at the given estimate; for nearest_neighbour, −½ of the vector cost of Eq. 4.
+  double log_likelihood(const PoseList& poses, const ControlList& controls,
+                        const std::vector<MeasurementSet>& scans, const LandmarkList& map) const {
+    check_sizes(poses, controls, scans);
+    State s{poses, map, {}, {}};
+    e_step(s, controls, scans);
+    return s.log_likelihood;
+  }
+
+  /// log p(Z | x, M) of one scan (Eq. 7) with the solver's p_D and truncation.
+  double scan_log_likelihood(const Pose& x, const MeasurementSet& Z, const LandmarkList& map) const {
+    ScanLikelihoodOptions o = scan_options();
+    o.marginals = false;
+    return evaluate_scan(model_, p_D_, x, map, Z, o).log_likelihood;
+  }
+
+  const SmoothDetection2D& detection() const { return p_D_; }
+
+ private:
+  /// Per-scan E-step result: the candidate landmarks (map indices) and their association.
+  struct ScanState {
+    std::vector<int> candidates;
+    ScanAssociation association;
+  };
+  struct State {
+    PoseList poses;
+    LandmarkList map;
+    std::vector<ScanState> scans;
+    std::vector<double> motion_ll;
+    double log_likelihood = 0.0;
+  };
+
+  bool nearest_neighbour() const { return config_.association == "nearest_neighbour"; }
+
+  ScanLikelihoodOptions scan_options() const {
+    ScanLikelihoodOptions o;
+    o.gate = config_.gate;
+    o.max_assignments = config_.max_assignments;
+    o.assignment_log_gap = config_.assignment_log_gap;
+    return o;
+  }
+
+  static void check_sizes(const PoseList& poses, const ControlList& controls,
+                          const std::vector<MeasurementSet>& scans) {
+    if (poses.empty() || poses.size() != scans.size() || controls.size() != scans.size()) {
+      throw std::invalid_argument("RfsMlSlam: poses, controls and scans must have the same non-zero length");
+    }
+  }
+
+  bool maybe_in_view(const Pose& x, const Landmark& m) const {
+    return (Model::landmark_position(m) - Model::position(x)).norm() <= p_D_.query_radius();
+  }
+
+  std::vector<int> candidates_of(const Pose& x, const LandmarkList& map) const {
+    std::vector<int> c;
+    for (std::size_t j = 0; j < map.size(); ++j)
+      if (maybe_in_view(x, map[j])) c.push_back(static_cast<int>(j));
+    return c;
+  }
+
+  LandmarkList gather(const LandmarkList& map, const std::vector<int>& ids) const {
+    LandmarkList out;
+    out.reserve(ids.size());
+    for (int j : ids) out.push_back(map[static_cast<std::size_t>(j)]);
+    return out;
+  }
+
+  /// β and l at the current estimate (parallel over scans; each scan writes only its own slot).
+  void e_step(State& s, const ControlList& controls, const std::vector<MeasurementSet>& scans) const {
+    const std::size_t K = scans.size();
+    s.scans.assign(K, {});
+    s.motion_ll.assign(K, 0.0);
+    const ScanLikelihoodOptions o = scan_options();
+    parallel_for(K, [&](std::size_t i) {
+      ScanState& ss = s.scans[i];
+      ss.candidates = candidates_of(s.poses[i], s.map);
+      if (nearest_neighbour()) {
+        ss.association = nearest_neighbour_scan(s.poses[i], gather(s.map, ss.candidates), scans[i]);
+      } else {
+        ss.association = evaluate_scan(model_, p_D_, s.poses[i], gather(s.map, ss.candidates), scans[i], o);
+      }
+      if (i > 0) {
+        s.motion_ll[i] = nearest_neighbour()
+                             ? -0.5 * whitened_motion(s.poses[i - 1], s.poses[i], controls[i]).squaredNorm()
+                             : motion_.log_density(s.poses[i], s.poses[i - 1], controls[i]);
+      }
+    });
+    s.log_likelihood = 0.0;
+    for (std::size_t i = 0; i < K; ++i)
+      s.log_likelihood += s.motion_ll[i] + s.scans[i].association.log_likelihood;
+  }
+
+  Eigen::Vector3d whitened_motion(const Pose& prev, const Pose& cur, const Control& u) const {
+    return whitening(motion_.process_noise(prev, u)) * Motion::local(cur, motion_.predict(prev, u));
+  }
+
+  /// Vector baseline: each measurement to its nearest gated landmark (β = 1); l = −½ Σ ‖r‖² (Eq. 4).
+  ScanAssociation nearest_neighbour_scan(const Pose& x, const LandmarkList& M,
+                                         const MeasurementSet& Z) const {
+    ScanAssociation out;
+    out.p_detect.assign(M.size(), 1.0);
+    for (std::size_t j = 0; j < Z.size(); ++j) {
+      int best = -1;
+      double best_d = config_.gate;
+      for (std::size_t p = 0; p < M.size(); ++p) {
+        const double d = mahalanobis_squared(model_.residual(Z[j], model_.predict(x, M[p])), model_.noise());
+        if (d <= best_d) best_d = d, best = static_cast<int>(p);
+      }
+      if (best < 0) continue;
+      out.betas.push_back({best, static_cast<int>(j), 1.0});
+      out.log_likelihood -= 0.5 * best_d;
+    }
+    return out;
+  }
+
+  void initial_map_from_scan(const Pose& x, const MeasurementSet& Z, LandmarkList& map) const {
+    for (const auto& z : Z) map.push_back(inverse(x, z));
+  }
+
+  Landmark inverse(const Pose& x, const Measurement& z) const {
+    Landmark m;
+    typename Model::LandmarkCovariance P;
+    model_.initialize(x, z, &m, &P);
+    return m;
+  }
+
+  /// Vector baseline: a measurement no landmark explains (none within the gate, new landmarks included)
+  /// becomes a landmark, scan by scan (the usual map initialisation).
+  void add_unassigned_as_landmarks(State& s, const std::vector<MeasurementSet>& scans) const {
+    for (std::size_t i = 0; i < scans.size(); ++i) {
+      std::vector<char> used(scans[i].size(), 0);
+      for (const auto& b : s.scans[i].association.betas) used[static_cast<std::size_t>(b.measurement)] = 1;
+      for (std::size_t j = 0; j < scans[i].size(); ++j) {
+        if (used[j] != 0) continue;
+        bool explained = false;
+        for (const auto& m : s.map) {
+          const auto r = model_.residual(scans[i][j], model_.predict(s.poses[i], m));
+          explained = explained || mahalanobis_squared(r, model_.noise()) <= config_.gate;
+        }
+        if (!explained) s.map.push_back(inverse(s.poses[i], scans[i][j]));
+      }
+    }
+  }
+
+  /// One M-step: LM on the motion factors and the β-weighted measurement factors.
+  void m_step(State& s, const ControlList& controls, const std::vector<MeasurementSet>& scans) const {
+    const std::size_t K = scans.size();
+    ceres::Problem::Options po;
+    po.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+    ceres::Problem problem(po);
+    for (std::size_t i = 1; i < K; ++i) {
+      const auto W = whitening(motion_.process_noise(s.poses[i - 1], controls[i]));
+      problem.AddResidualBlock(make_motion_factor(motion_, controls[i], W), nullptr, s.poses[i - 1].data(),
+                               s.poses[i].data());
+    }
+    const auto W_R = whitening(model_.noise());
+    for (std::size_t i = 0; i < K; ++i) {
+      const ScanState& ss = s.scans[i];
+      for (const auto& b : ss.association.betas) {
+        if (b.beta < config_.min_responsibility) continue;
+        Landmark& m = s.map[static_cast<std::size_t>(ss.candidates[static_cast<std::size_t>(b.landmark)])];
+        problem.AddResidualBlock(new WeightedMeasurementFactor<Model>(
+                                     model_, scans[i][static_cast<std::size_t>(b.measurement)], W_R, b.beta),
+                                 nullptr, s.poses[i].data(), m.data());
+      }
+    }
+    for (std::size_t i = 0; i < K; ++i) {
+      if (!problem.HasParameterBlock(s.poses[i].data())) continue;
+      problem.SetManifold(s.poses[i].data(), &manifold_);
+    }
+    if (!problem.HasParameterBlock(s.poses[0].data())) return;
+    problem.SetParameterBlockConstant(s.poses[0].data());
+    ceres::Solver::Options so;
+    so.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
+    so.max_num_iterations = config_.solver_iterations;
+    so.num_threads = 1;
+    so.logging_type = ceres::SILENT;
+    ceres::Solver::Summary summary;
+    ceres::Solve(so, &problem, &summary);
+    for (auto& x : s.poses) x(2) = wrap_angle(x(2));
+  }
+
+  /// next ← midway between `from` and `next` (poses in the tangent space; same landmark list).
+  static void blend_towards(const State& from, State& next) {
+    for (std::size_t i = 0; i < next.poses.size(); ++i)
+      next.poses[i] = Motion::retract(from.poses[i], 0.5 * Motion::local(next.poses[i], from.poses[i]));
+    for (std::size_t j = 0; j < next.map.size() && j < from.map.size(); ++j)
+      next.map[j] = 0.5 * (next.map[j] + from.map[j]);
+  }
+
+  // ---- cardinality moves -------------------------------------------------------------------------------
+
+  /// Δl of replacing the landmarks `removed` (map indices) by `added` on the scans that see any of them.
+  double move_gain(const State& s, const std::vector<MeasurementSet>& scans, const std::vector<int>& removed,
+                   const LandmarkList& added, std::vector<std::size_t>* affected) const {
+    affected->clear();
+    for (std::size_t i = 0; i < scans.size(); ++i) {
+      bool touched = false;
+      for (const auto& m : added) touched = touched || maybe_in_view(s.poses[i], m);
+      for (int r : removed)
+        touched = touched || maybe_in_view(s.poses[i], s.map[static_cast<std::size_t>(r)]);
+      if (touched) affected->push_back(i);
+    }
+    ScanLikelihoodOptions o = scan_options();
+    o.marginals = false;
+    double gain = 0.0;
+    for (std::size_t i : *affected) {
+      LandmarkList M;
+      for (int c : s.scans[i].candidates)
+        if (std::find(removed.begin(), removed.end(), c) == removed.end())
+          M.push_back(s.map[static_cast<std::size_t>(c)]);
+      for (const auto& m : added)
+        if (maybe_in_view(s.poses[i], m)) M.push_back(m);
+      gain += evaluate_scan(model_, p_D_, s.poses[i], M, scans[i], o).log_likelihood -
+              s.scans[i].association.log_likelihood;
+    }
+    return gain;
+  }
+
+  /// Applies an accepted move: removed landmarks are marked dead (NaN) until compaction; the affected scans'
+  /// E-step entries are recomputed.
+  void apply_move(State& s, const std::vector<MeasurementSet>& scans, const std::vector<int>& removed,
+                  const LandmarkList& added, const std::vector<std::size_t>& affected) const {
+    for (int r : removed) s.map[static_cast<std::size_t>(r)].setConstant(std::nan(""));
+    for (const auto& m : added) s.map.push_back(m);
+    const ScanLikelihoodOptions o = scan_options();
+    for (std::size_t i : affected) {
+      ScanState& ss = s.scans[i];
+      s.log_likelihood -= ss.association.log_likelihood;
+      ss.candidates.clear();
+      for (std::size_t j = 0; j < s.map.size(); ++j)
+        if (s.map[j].allFinite() && maybe_in_view(s.poses[i], s.map[j]))
+          ss.candidates.push_back(static_cast<int>(j));
+      ss.association = evaluate_scan(model_, p_D_, s.poses[i], gather(s.map, ss.candidates), scans[i], o);
+      s.log_likelihood += ss.association.log_likelihood;
+    }
+  }
+
+  int cardinality_moves(State& s, const std::vector<MeasurementSet>& scans, MlSlamReport& report) const {
+    int accepted = 0;
+    std::vector<std::size_t> affected;
+    // deaths: landmarks detected far less often than p_D predicts
+    std::vector<double> detected(s.map.size(), 0.0), expected(s.map.size(), 0.0);
+    for (const auto& ss : s.scans) {
+      for (std::size_t p = 0; p < ss.candidates.size(); ++p)
+        expected[static_cast<std::size_t>(ss.candidates[p])] += ss.association.p_detect[p];
+      for (const auto& b : ss.association.betas)
+        detected[static_cast<std::size_t>(ss.candidates[static_cast<std::size_t>(b.landmark)])] += b.beta;
+    }
+    const std::size_t M0 = s.map.size();
+    for (std::size_t j = 0; j < M0; ++j) {
+      if (detected[j] >= config_.death_ratio * expected[j]) continue;
+      const std::vector<int> removed{static_cast<int>(j)};
+      if (move_gain(s, scans, removed, {}, &affected) > 0.0) {
+        apply_move(s, scans, removed, {}, affected);
+        ++report.deaths;
+        ++accepted;
+      }
+    }
+    // merges: landmarks closer than merge_distance, replaced by their detection-weighted mean
+    for (std::size_t a = 0; a < M0; ++a) {
+      for (std::size_t b = a + 1; b < M0; ++b) {
+        if (!s.map[a].allFinite() || !s.map[b].allFinite()) continue;
+        if ((Model::landmark_position(s.map[a]) - Model::landmark_position(s.map[b])).norm() >
+            config_.merge_distance_m)
+          continue;
+        const double wa = detected[a] + 1e-9, wb = detected[b] + 1e-9;
+        const LandmarkList merged{(wa * s.map[a] + wb * s.map[b]) / (wa + wb)};
+        const std::vector<int> removed{static_cast<int>(a), static_cast<int>(b)};
+        if (move_gain(s, scans, removed, merged, &affected) > 0.0) {
+          apply_move(s, scans, removed, merged, affected);
+          ++report.merges;
+          ++accepted;
+        }
+      }
+    }
+    // births: clusters of unexplained measurements
+    for (const Landmark& m : birth_candidates(s, scans)) {
+      const LandmarkList added{m};
+      if (move_gain(s, scans, {}, added, &affected) > 0.0) {
+        apply_move(s, scans, {}, added, affected);
+        ++report.births;
+        ++accepted;
+      }
+    }
+    if (accepted > 0) compact(s);
+    return accepted;
+  }
+
+  /// Unexplained measurements (clutter responsibility 1 − Σ_m β_mn ≥ birth_responsibility) mapped through the
+  /// inverse model and clustered greedily on a grid of birth_radius cells; clusters with enough support,
+  /// most supported first.
+  LandmarkList birth_candidates(const State& s, const std::vector<MeasurementSet>& scans) const {
+    struct Cluster {
+      Landmark sum;
+      int count = 0;
+      Landmark mean() const { return sum / static_cast<double>(count); }
+    };
+    std::vector<Cluster> clusters;
+    std::unordered_map<long long, std::vector<int>> grid;
+    const double cell = std::max(config_.birth_radius_m, 1e-9);
+    auto key = [&](long long cx, long long cy) { return cx * 1000003LL + cy; };
+    for (std::size_t i = 0; i < scans.size(); ++i) {
+      std::vector<double> explained(scans[i].size(), 0.0);
+      for (const auto& b : s.scans[i].association.betas)
+        explained[static_cast<std::size_t>(b.measurement)] += b.beta;
+      for (std::size_t j = 0; j < scans[i].size(); ++j) {
+        if (1.0 - explained[j] < config_.birth_responsibility) continue;
+        const Landmark m = inverse(s.poses[i], scans[i][j]);
+        const Eigen::Vector2d q = Model::landmark_position(m).template head<2>();
+        const long long cx = static_cast<long long>(std::floor(q(0) / cell));
+        const long long cy = static_cast<long long>(std::floor(q(1) / cell));
+        int best = -1;
+        double best_d = config_.birth_radius_m;
+        for (long long dx = -1; dx <= 1; ++dx)
+          for (long long dy = -1; dy <= 1; ++dy) {
+            const auto it = grid.find(key(cx + dx, cy + dy));
+            if (it == grid.end()) continue;
+            for (int c : it->second) {
+              const double d = (Model::landmark_position(clusters[static_cast<std::size_t>(c)].mean()) -
+                                Model::landmark_position(m))
+                                   .norm();
+              if (d < best_d || (d == best_d && c < best)) best_d = d, best = c;
+            }
+          }
+        if (best < 0) {
+          grid[key(cx, cy)].push_back(static_cast<int>(clusters.size()));
+          clusters.push_back({m, 1});
+        } else {
+          clusters[static_cast<std::size_t>(best)].sum += m;
+          ++clusters[static_cast<std::size_t>(best)].count;
+        }
+      }
+    }
+    std::vector<std::size_t> order(clusters.size());
+    std::iota(order.begin(), order.end(), 0);
+    std::stable_sort(order.begin(), order.end(),
+                     [&](std::size_t a, std::size_t b) { return clusters[a].count > clusters[b].count; });
+    LandmarkList out;
+    for (std::size_t c : order)
+      if (clusters[c].count >= config_.birth_min_support) out.push_back(clusters[c].mean());
+    return out;
+  }
+
+  /// Removes the dead landmarks and renumbers the scans' candidate lists.
+  static void compact(State& s) {
+    std::vector<int> new_index(s.map.size(), -1);
+    LandmarkList kept;
+    for (std::size_t j = 0; j < s.map.size(); ++j) {
+      if (!s.map[j].allFinite()) continue;
+      new_index[j] = static_cast<int>(kept.size());
+      kept.push_back(s.map[j]);
+    }
+    s.map = std::move(kept);
+    for (auto& ss : s.scans)
+      for (int& c : ss.candidates) c = new_index[static_cast<std::size_t>(c)];
+  }
+
+  Motion motion_;
+  Model model_;
+  MlSlamConfig config_;
+  SmoothDetection2D p_D_;
+  mutable Pose2CeresManifold manifold_;
+};
+
+}  // namespace glmbslam::backend

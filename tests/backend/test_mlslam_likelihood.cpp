@@ -1,0 +1,156 @@
+// RFS measurement likelihood of paper 004 (Eq. 7) against brute-force enumeration of the associations, its
+// marginals, and its equality with the vector least-squares cost (Eq. 4) when one association dominates.
+#include <gtest/gtest.h>
+
+#include <functional>
+
+#include "backend/mlslam/scan_likelihood.hpp"
+#include "core/gaussian.hpp"
+#include "mlslam_test_problem.hpp"
+
+namespace glmbslam::backend {
+namespace {
+
+using test::Slam2D;
+
+/// Eq. 7 summed over every association θ (injective partial maps measurement → landmark), with the p_D of
+/// `detection` and no gate; beta(m, n) receives Σ_θ π_θ 1[θ(n) = m].
+double brute_force_eq7(const RangeBearingModel& model, const SmoothDetection2D& detection, const Pose2& x,
+                       const Slam2D::LandmarkList& M, const Slam2D::MeasurementSet& Z,
+                       Eigen::MatrixXd* beta) {
+  const std::size_t P = M.size(), J = Z.size();
+  std::vector<double> pd(P);
+  for (std::size_t p = 0; p < P; ++p) pd[p] = detection(model, x, M[p], model.predict(x, M[p]));
+  std::vector<double> log_terms;
+  std::vector<std::vector<int>> thetas;
+  std::vector<int> theta(J, -1);  // measurement → landmark or −1 (clutter)
+  std::vector<char> used(P, 0);
+  std::function<void(std::size_t)> rec = [&](std::size_t j) {
+    if (j == J) {
+      double l = -model.clutter_rate();
+      for (std::size_t n = 0; n < J; ++n) {
+        if (theta[n] < 0) {
+          l += model.log_clutter_intensity(Z[n]);
+        } else {
+          const auto r = model.residual(Z[n], model.predict(x, M[static_cast<std::size_t>(theta[n])]));
+          l += std::log(pd[static_cast<std::size_t>(theta[n])]) + log_gaussian(r, model.noise());
+        }
+      }
+      for (std::size_t p = 0; p < P; ++p)
+        if (used[p] == 0) l += std::log(1.0 - pd[p]);
+      log_terms.push_back(l);
+      thetas.push_back(theta);
+      return;
+    }
+    theta[j] = -1;
+    rec(j + 1);
+    for (std::size_t p = 0; p < P; ++p) {
+      if (used[p] != 0) continue;
+      used[p] = 1;
+      theta[j] = static_cast<int>(p);
+      rec(j + 1);
+      used[p] = 0;
+      theta[j] = -1;
+    }
+  };
+  rec(0);
+  const double total = log_sum_exp(log_terms);
+  *beta = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(P), static_cast<Eigen::Index>(J));
+  for (std::size_t t = 0; t < thetas.size(); ++t)
+    for (std::size_t n = 0; n < J; ++n)
+      if (thetas[t][n] >= 0)
+        (*beta)(thetas[t][n], static_cast<Eigen::Index>(n)) += std::exp(log_terms[t] - total);
+  return total;
+}
+
+RangeBearingModel ambiguous_model() {
+  RangeBearingConfig c;
+  c.sigma_range = 0.3;
+  c.sigma_bearing = 0.1;
+  c.max_range = 5.0;
+  c.half_fov = 1.0;
+  c.p_detect_inside = 0.8;
+  c.clutter_rate = 2.0;
+  return RangeBearingModel(c);
+}
+
+TEST(MlSlamLikelihood, EqualsBruteForceEnumerationOfEq7) {
+  const RangeBearingModel model = ambiguous_model();
+  const SmoothDetection2D detection(model, 0.2, 0.05);
+  const Pose2 x(0.1, -0.2, 0.05);
+  // three landmarks close together (ambiguous), one near the range border, one near the bearing border
+  const Slam2D::LandmarkList M{{3.0, 0.1}, {3.2, -0.2}, {2.9, 0.4}, {4.95, 0.0}, {1.5, 1.2}};
+  const Slam2D::MeasurementSet Z{{3.0, 0.1}, {3.3, -0.05}, {2.2, 0.3}, {4.8, 0.05}, {1.9, 0.9}};
+  ScanLikelihoodOptions o;
+  o.gate = 1e9;
+  o.max_assignments = 100000;
+  o.assignment_log_gap = 1e9;
+  const ScanAssociation s = evaluate_scan(model, detection, x, M, Z, o);
+  Eigen::MatrixXd beta;
+  const double expected = brute_force_eq7(model, detection, x, M, Z, &beta);
+  EXPECT_NEAR(s.log_likelihood, expected, 1e-9);
+  Eigen::MatrixXd got = Eigen::MatrixXd::Zero(beta.rows(), beta.cols());
+  for (const auto& b : s.betas) got(b.landmark, b.measurement) += b.beta;
+  EXPECT_LT((got - beta).cwiseAbs().maxCoeff(), 1e-9);
+  // every measurement's responsibilities (landmarks + clutter) sum to at most 1, and some are shared
+  EXPECT_LE(got.colwise().sum().maxCoeff(), 1.0 + 1e-12);
+  EXPECT_GT((got.array() > 0.05 && got.array() < 0.95).count(), 2);
+}
+
+TEST(MlSlamLikelihood, GatedTruncationIsALowerBoundCloseToTheExactSum) {
+  const RangeBearingModel model = ambiguous_model();
+  const SmoothDetection2D detection(model, 0.2, 0.05);
+  const Pose2 x(0.0, 0.0, 0.0);
+  const Slam2D::LandmarkList M{{3.0, 0.1}, {3.2, -0.2}, {2.9, 0.4}};
+  const Slam2D::MeasurementSet Z{{3.0, 0.1}, {3.3, -0.05}, {2.2, 0.3}};
+  ScanLikelihoodOptions exact;
+  exact.gate = 1e9;
+  exact.max_assignments = 100000;
+  exact.assignment_log_gap = 1e9;
+  ScanLikelihoodOptions truncated;  // defaults: gate 16, 50 assignments, gap 9.2
+  const double l_exact = evaluate_scan(model, detection, x, M, Z, exact).log_likelihood;
+  const double l_trunc = evaluate_scan(model, detection, x, M, Z, truncated).log_likelihood;
+  EXPECT_LE(l_trunc, l_exact + 1e-12);
+  EXPECT_GT(l_trunc, l_exact - 1e-3);
+}
+
+// With one dominant association (well separated landmarks, small noise, constant p_D) the log-likelihood
+// differs from −½ of the vector cost of Eq. 4 by a constant: changes of the estimate change both equally.
+TEST(MlSlamLikelihood, OneDominantAssociationEqualsTheVectorCost) {
+  const auto p = test::make_problem(20, 6, 0.9, 0.0, 3);
+  MlSlamConfig config;
+  config.border_range_m = 1e-3;
+  const Slam2D slam(p.motion, p.model, config);
+  const RangeBearingModel& model = p.model;
+  const auto vector_cost = [&](const Slam2D::PoseList& x, const Slam2D::LandmarkList& m) {
+    double c = 0.0;
+    for (std::size_t k = 1; k < x.size(); ++k) {
+      const auto d = UnicycleMotion::local(x[k], p.motion.predict(x[k - 1], p.controls[k]));
+      const auto P = p.motion.process_noise(x[k - 1], p.controls[k]);
+      c += mahalanobis_squared(d, P) + std::log((2.0 * M_PI * P).determinant());
+    }
+    // measurements with their true sources: the nearest predicted landmark (no clutter here)
+    for (std::size_t k = 0; k < x.size(); ++k) {
+      for (const auto& z : p.scans[k]) {
+        double best = 1e300;
+        for (const auto& l : m)
+          best =
+              std::min(best, mahalanobis_squared(model.residual(z, model.predict(x[k], l)), model.noise()));
+        c += best;
+      }
+    }
+    return -0.5 * c;
+  };
+  Slam2D::PoseList x = p.truth;
+  Slam2D::LandmarkList m = p.landmarks;
+  const double l0 = slam.log_likelihood(x, p.controls, p.scans, m), v0 = vector_cost(x, m);
+  x[5](0) += 0.01;
+  x[9](2) += 0.004;
+  m[2](1) -= 0.01;
+  const double l1 = slam.log_likelihood(x, p.controls, p.scans, m), v1 = vector_cost(x, m);
+  EXPECT_GT(std::abs(l1 - l0), 1.0);  // the perturbation matters
+  EXPECT_NEAR(l1 - l0, v1 - v0, 1e-6 * std::abs(l1 - l0));
+}
+
+}  // namespace
+}  // namespace glmbslam::backend
