@@ -33,6 +33,9 @@ VictoriaParkConfig default_victoria_park_config() {
   c.baselines.fastslam.resampling = "ess";
   c.baselines.fastslam.ess_threshold = 0.1;
   c.baselines.fastslam.single_particle = "mean";
+  // lmb: the first detection of a tree leaves its Bernoulli at r ≈ 0.007 here (r_B 1e-4, low p_D, wide κ), so
+  // paper 000's 0.019 removed every new landmark (seeds 0-9, N = 1: 0 landmarks, 148.9 m)
+  c.baselines.lmb.existence_threshold = 1e-4;
   return c;
 }
 
