@@ -36,6 +36,21 @@ bool is_blank_line(const std::string& line) {
   return line.find_first_not_of(" \t\r") == std::string::npos;
 }
 
+StereoFrame read_stereo_frame(const std::string& name, std::size_t i, const std::vector<fs::path>& left,
+                              const std::vector<fs::path>& right, const std::vector<double>& timestamps,
+                              int width, int height) {
+  if (i >= left.size()) {
+    throw InputError(
+        name, "frame " + std::to_string(i) + " out of range (" + std::to_string(left.size()) + " frames)");
+  }
+  StereoFrame frame;
+  frame.index = i;
+  frame.timestamp = timestamps[i];
+  frame.left = read_gray_image(left[i], width, height);
+  frame.right = read_gray_image(right[i], width, height);
+  return frame;
+}
+
 void require_directory(const fs::path& dir, const std::string& what) {
   std::error_code ec;
   if (!fs::exists(dir, ec)) throw InputError(dir.string(), what + " not found");

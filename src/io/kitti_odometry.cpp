@@ -112,16 +112,8 @@ KittiOdometryDataset::KittiOdometryDataset(const std::string& sequence_dir,
 }
 
 StereoFrame KittiOdometryDataset::load(std::size_t i) const {
-  if (i >= size()) {
-    throw InputError(name_,
-                     "frame " + std::to_string(i) + " out of range (" + std::to_string(size()) + " frames)");
-  }
-  StereoFrame frame;
-  frame.index = i;
-  frame.timestamp = timestamps_[i];
-  frame.left = detail::read_gray_image(left_files_[i], calibration_.width, calibration_.height);
-  frame.right = detail::read_gray_image(right_files_[i], calibration_.width, calibration_.height);
-  return frame;
+  return detail::read_stereo_frame(name_, i, left_files_, right_files_, timestamps_, calibration_.width,
+                                   calibration_.height);
 }
 
 }  // namespace glmbslam::io

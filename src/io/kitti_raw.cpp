@@ -5,6 +5,7 @@
 #include <fstream>
 #include <system_error>
 
+#include <spdlog/spdlog.h>
 #include <Eigen/SVD>
 
 #include "core/error.hpp"
@@ -140,6 +141,55 @@ PoseList kitti_raw_ground_truth(const std::string& drive_dir, const KittiRawCali
   return imu_to_camera_poses(oxts_to_imu_poses(records), calibration.T_cam0_imu);
 }
 
+void fill_ground_truth_gaps(PoseList& poses, const std::vector<char>& mask) {
+  long last = -1;
+  for (std::size_t i = 0; i < poses.size(); ++i) {
+    if (mask[i]) {
+      if (last < 0)
+        for (std::size_t j = 0; j < i; ++j) poses[j] = poses[i];
+      last = static_cast<long>(i);
+    } else if (last >= 0) {
+      poses[i] = poses[static_cast<std::size_t>(last)];
+    }
+  }
+}
+
+std::optional<PartialGroundTruth> kitti_raw_partial_ground_truth(const std::string& drive_dir,
+                                                                 const KittiRawCalibration& calibration,
+                                                                 const std::vector<fs::path>& left_files) {
+  const fs::path data = fs::path(drive_dir) / "oxts" / "data";
+  std::vector<OxtsRecord> records;
+  std::vector<char> mask(left_files.size(), 0);
+  std::size_t missing = 0;
+  for (std::size_t i = 0; i < left_files.size(); ++i) {
+    const fs::path file = data / (left_files[i].stem().string() + ".txt");
+    std::error_code ec;
+    if (!fs::exists(file, ec)) {
+      ++missing;
+      continue;
+    }
+    try {
+      records.push_back(read_oxts_file(file.string()));
+      mask[i] = 1;
+    } catch (const InputError& e) {
+      spdlog::warn("ground truth: {} (frame {} left without ground truth)", e.what(), i);
+    }
+  }
+  if (missing > 0)
+    spdlog::warn("ground truth: {} has no record for {} of {} frames", data.string(), missing,
+                 left_files.size());
+  if (records.empty()) return std::nullopt;
+  const PoseList measured = imu_to_camera_poses(oxts_to_imu_poses(records), calibration.T_cam0_imu);
+  PartialGroundTruth gt;
+  gt.poses.assign(left_files.size(), Pose3::Identity());
+  std::size_t next = 0;
+  for (std::size_t i = 0; i < mask.size(); ++i)
+    if (mask[i]) gt.poses[i] = measured[next++];
+  fill_ground_truth_gaps(gt.poses, mask);
+  if (records.size() < left_files.size()) gt.mask = std::move(mask);
+  return gt;
+}
+
 KittiRawDataset::KittiRawDataset(const std::string& drive_dir, const std::string& ground_truth_path) {
   const fs::path dir(drive_dir);
   detail::require_directory(dir, "KITTI raw drive folder");
@@ -168,39 +218,31 @@ KittiRawDataset::KittiRawDataset(const std::string& drive_dir, const std::string
                                    (kitti_raw_date_dir(drive_dir) / "calib_cam_to_cam.txt").string(),
                                    left_files_.front().string());
 
-  std::string gt_source;
-  PoseList poses;
   std::error_code ec;
   if (!ground_truth_path.empty()) {
-    gt_source = ground_truth_path;
-    poses = relative_to_first(read_kitti_poses(ground_truth_path));
-  } else if (fs::is_directory(dir / "oxts", ec)) {
-    gt_source = (dir / "oxts" / "data").string();
-    poses = kitti_raw_ground_truth(drive_dir, calibration_);
-  }
-  if (!gt_source.empty()) {
+    PoseList poses = relative_to_first(read_kitti_poses(ground_truth_path));
     if (poses.size() != left_files_.size()) {
-      throw InputError(gt_source, "has " + std::to_string(poses.size()) + " poses but the drive has " +
-                                      std::to_string(left_files_.size()) + " frames");
+      throw InputError(ground_truth_path, "has " + std::to_string(poses.size()) +
+                                              " poses but the drive has " +
+                                              std::to_string(left_files_.size()) + " frames");
     }
     ground_truth_ = std::move(poses);
+  } else if (fs::is_directory(dir / "oxts", ec)) {
+    if (auto gt = kitti_raw_partial_ground_truth(drive_dir, calibration_, left_files_)) {
+      ground_truth_ = std::move(gt->poses);
+      ground_truth_mask_ = std::move(gt->mask);
+    } else {
+      spdlog::warn("ground truth: no usable record in {}: running without ground truth",
+                   (dir / "oxts" / "data").string());
+    }
   }
   const fs::path named = dir.has_filename() ? dir : dir.parent_path();
   name_ = "kitti raw " + named.filename().string();
 }
 
 StereoFrame KittiRawDataset::load(std::size_t i) const {
-  if (i >= size()) {
-    throw InputError(name_,
-                     "frame " + std::to_string(i) + " out of range (" + std::to_string(size()) + " frames)");
-  }
-  StereoFrame frame;
-  frame.index = i;
-  frame.timestamp = timestamps_[i];
-  frame.left = detail::read_gray_image(left_files_[i], calibration_.stereo.width, calibration_.stereo.height);
-  frame.right =
-      detail::read_gray_image(right_files_[i], calibration_.stereo.width, calibration_.stereo.height);
-  return frame;
+  return detail::read_stereo_frame(name_, i, left_files_, right_files_, timestamps_,
+                                   calibration_.stereo.width, calibration_.stereo.height);
 }
 
 }  // namespace glmbslam::io

@@ -31,20 +31,39 @@ std::vector<double> read_kitti_raw_timestamps(const std::string& path);
 /// Camera-0 ground truth of a drive folder computed from oxts/data (see oxts.hpp), relative to frame 0.
 PoseList kitti_raw_ground_truth(const std::string& drive_dir, const KittiRawCalibration& calibration);
 
+/// Ground truth that may cover only some frames: poses (placeholders where missing) and a per-frame mask.
+struct PartialGroundTruth {
+  PoseList poses;
+  std::vector<char> mask;  ///< 1: measured pose; empty when every frame has one
+};
+
+/// Camera-0 ground truth for the given left image files from the oxts record of the same name
+/// (oxts/data/<stem>.txt), relative to the first frame that has one. A missing or unreadable record is
+/// logged and leaves its frame without ground truth (the nearest measured pose as placeholder). Returns
+/// std::nullopt when no frame has a record.
+std::optional<PartialGroundTruth> kitti_raw_partial_ground_truth(
+    const std::string& drive_dir, const KittiRawCalibration& calibration,
+    const std::vector<std::filesystem::path>& left_files);
+
+/// Replaces the poses of frames without ground truth (mask 0) by the nearest earlier measured pose (the first
+/// measured one before it).
+void fill_ground_truth_gaps(PoseList& poses, const std::vector<char>& mask);
+
 /// The date folder of a drive folder (its parent), tolerant of a trailing slash.
 std::filesystem::path kitti_raw_date_dir(const std::string& drive_dir);
 
 class KittiRawDataset : public StereoDataset {
  public:
   /// Opens and validates a drive folder. `ground_truth_path` (a KITTI pose file) overrides the oxts-derived
-  /// ground truth; otherwise it is computed from oxts/ when that folder exists (must have one record a
-  /// frame).
+  /// ground truth (one pose a frame); otherwise it is computed from oxts/ when that folder exists: frames
+  /// whose record is missing or broken have no ground truth (logged; see ground_truth_mask).
   explicit KittiRawDataset(const std::string& drive_dir, const std::string& ground_truth_path = "");
 
   std::size_t size() const override { return left_files_.size(); }
   const StereoCalibration& calibration() const override { return calibration_.stereo; }
   const std::vector<double>& timestamps() const override { return timestamps_; }
   const std::optional<PoseList>& ground_truth() const override { return ground_truth_; }
+  const std::vector<char>& ground_truth_mask() const override { return ground_truth_mask_; }
   StereoFrame load(std::size_t i) const override;
   std::string name() const override { return name_; }
 
@@ -55,6 +74,7 @@ class KittiRawDataset : public StereoDataset {
   KittiRawCalibration calibration_;
   std::vector<double> timestamps_;
   std::optional<PoseList> ground_truth_;
+  std::vector<char> ground_truth_mask_;
   std::vector<std::filesystem::path> left_files_;
   std::vector<std::filesystem::path> right_files_;
 };

@@ -3,6 +3,7 @@
 #include <system_error>
 
 #include "core/error.hpp"
+#include "io/euroc.hpp"
 #include "io/kitti_odometry.hpp"
 #include "io/kitti_raw.hpp"
 #include "io/stereo_dataset.hpp"
@@ -22,12 +23,14 @@ DatasetFormat detect_dataset_format(const std::string& path) {
   if (fs::is_directory(dir / "image_00", ec) && fs::is_directory(dir / "image_01", ec)) {
     return DatasetFormat::kKittiRaw;
   }
+  if (!euroc_mav_dir(path).empty()) return DatasetFormat::kEuroc;
   if (fs::exists(dir / "aa3_dr.mat", ec)) return DatasetFormat::kVictoriaPark;
   throw InputError(
       path,
       "unknown dataset layout (expected a KITTI odometry sequence folder with image_0/ and calib.txt, "
-      "a KITTI raw drive folder with image_00/ and image_01/, or a Victoria Park folder with "
-      "aa3_dr.mat)");
+      "a KITTI raw drive folder with image_00/ and image_01/, an EuRoC folder holding mav0/ (or mav0 "
+      "itself), "
+      "or a Victoria Park folder with aa3_dr.mat)");
 }
 
 std::unique_ptr<StereoDataset> open_stereo_dataset(const std::string& path, DatasetFormat format,
@@ -38,6 +41,8 @@ std::unique_ptr<StereoDataset> open_stereo_dataset(const std::string& path, Data
       return std::make_unique<KittiOdometryDataset>(path, ground_truth_path);
     case DatasetFormat::kKittiRaw:
       return std::make_unique<KittiRawDataset>(path, ground_truth_path);
+    case DatasetFormat::kEuroc:
+      return std::make_unique<EurocDataset>(path, ground_truth_path);
     case DatasetFormat::kVictoriaPark:
       throw InputError(path, "is a Victoria Park dataset (2D range-bearing), not a stereo dataset");
     case DatasetFormat::kAuto:

@@ -1,6 +1,7 @@
 #pragma once
 // A rectified stereo sequence read lazily, frame by frame (a long sequence is never loaded at once).
-// Implementations: KITTI odometry (sequences/XX) and KITTI raw (DATE/DATE_drive_NNNN_sync).
+// Implementations: KITTI odometry (sequences/XX), KITTI raw (DATE/DATE_drive_NNNN_sync) and EuRoC ASL
+// (mav0/).
 #include <memory>
 #include <optional>
 #include <string>
@@ -20,9 +21,9 @@ struct StereoFrame {
   cv::Mat right;
 };
 
-enum class DatasetFormat { kAuto, kKittiOdometry, kKittiRaw, kVictoriaPark };
+enum class DatasetFormat { kAuto, kKittiOdometry, kKittiRaw, kEuroc, kVictoriaPark };
 
-/// Parses "auto", "kitti", "kitti_raw", "victoria_park"; throws ConfigError otherwise.
+/// Parses "auto", "kitti", "kitti_raw", "euroc", "victoria_park"; throws ConfigError otherwise.
 DatasetFormat parse_dataset_format(const std::string& name);
 std::string to_string(DatasetFormat format);
 
@@ -35,8 +36,15 @@ class StereoDataset {
   virtual const StereoCalibration& calibration() const = 0;
   /// Timestamps in seconds, one per frame, strictly increasing.
   virtual const std::vector<double>& timestamps() const = 0;
-  /// Ground-truth poses T_world_cam0 relative to frame 0 (one per frame), if available.
+  /// Ground-truth poses T_world_cam0 relative to frame 0 (one per frame), if available. Frames without a
+  /// measured pose (see ground_truth_mask) hold the nearest measured one as a placeholder.
   virtual const std::optional<PoseList>& ground_truth() const = 0;
+  /// Per frame: 1 if ground_truth() holds a measured pose for it, 0 for a placeholder. Empty: every frame has
+  /// one. Evaluation uses the frames marked 1 only.
+  virtual const std::vector<char>& ground_truth_mask() const {
+    static const std::vector<char> all;
+    return all;
+  }
   /// Loads frame i (0 ≤ i < size()). Throws InputError naming the image file if it is missing or unreadable,
   /// or if its size does not match the calibration.
   virtual StereoFrame load(std::size_t i) const = 0;
@@ -45,7 +53,8 @@ class StereoDataset {
 };
 
 /// Detects the format of `path` (a folder): a KITTI odometry sequence folder (with image_0/ image_1/
-/// calib.txt), a KITTI raw drive folder (with image_00/ image_01/), or a Victoria Park folder (aa3_dr.mat).
+/// calib.txt), a KITTI raw drive folder (with image_00/ image_01/), an EuRoC ASL folder (holding mav0/, or
+/// mav0 itself with cam0/ cam1/), or a Victoria Park folder (aa3_dr.mat).
 /// Throws InputError naming the path if it matches none.
 DatasetFormat detect_dataset_format(const std::string& path);
 
