@@ -16,13 +16,22 @@ void register_render_command(CLI::App& app) {
   cmd->add_option("--out", opt->out_dir, "output folder (gets sequences/XX and poses/XX.txt)")->required();
   cmd->add_option("--poses", opt->poses_path,
                   "KITTI pose file to drive along (default: built-in ~400 m loop with a loop closure)");
-  cmd->add_option("--calib", opt->calibration, "kitti00-02, kitti03, kitti04-12 or a KITTI calib.txt file")
+  cmd->add_option(
+         "--calib", opt->calibration,
+         "kitti00-02, kitti03, kitti04-12, euroc (752x480, 0.11 m baseline) or a KITTI calib.txt file")
       ->capture_default_str();
   cmd->add_option("--size", opt->image_size,
                   "image size WIDTHxHEIGHT (only with a calib file; default 1241x376)");
   cmd->add_option("--frames", opt->frames,
                   "frame range A:B of the pose file (frames A..B-1), or A: (default all)");
   cmd->add_option("--seed", opt->seed, "world and noise seed")->capture_default_str();
+  cmd->add_option("--rate", opt->frame_rate, "frame rate in Hz (times.txt)")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--duplicate-every", opt->duplicate_every,
+                  "every N-th frame repeats the previous one byte for byte (duplicated frames in a log)");
+  cmd->add_option("--drop-every", opt->drop_every,
+                  "leave out every N-th frame, the others keep their timestamps (dropped frames)");
   cmd->add_option("--sequence", opt->sequence, "sequence folder name XX")->capture_default_str();
   cmd->add_option("--noise", opt->photometric.noise_sigma, "Gaussian pixel noise sigma (grey levels)")
       ->capture_default_str();

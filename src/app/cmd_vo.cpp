@@ -28,6 +28,7 @@
 #include "app/commands.hpp"
 #include "app/pipeline/trajectory_stream_stage.hpp"
 #include "app/run_report.hpp"
+#include "app/stereo_config.hpp"
 #include "core/atomic_file.hpp"
 #include "core/config_node.hpp"
 #include "core/error.hpp"
@@ -35,6 +36,7 @@
 #include "core/lie.hpp"
 #include "core/progress.hpp"
 #include "core/stopwatch.hpp"
+#include "eval/masked_evaluation.hpp"
 #include "eval/report.hpp"
 #include "frontend/frontend_config.hpp"
 #include "frontend/stereo_frontend.hpp"
@@ -86,6 +88,21 @@ frontend::FrontendConfig load_config(const std::string& path) {
   return frontend::load_frontend_config(node);
 }
 
+/// The frontend keys the config file leaves out, from the rig's calibration (apply_camera_defaults).
+frontend::FrontendConfig with_camera_defaults(const std::string& path, const io::StereoDataset& dataset,
+                                              std::size_t first, const frontend::FrontendConfig& config) {
+  StereoCalibration calib = dataset.calibration();
+  if (calib.width <= 0 || calib.height <= 0) {  // KITTI odometry: the size comes from the images
+    const io::StereoFrame probe = dataset.load(first);
+    calib.width = probe.left.cols;
+    calib.height = probe.left.rows;
+  }
+  StereoConfig with_rig;
+  with_rig.frontend = config;
+  apply_camera_defaults(path.empty() ? YAML::Node() : YAML::LoadFile(path), calib, with_rig);
+  return with_rig.frontend;
+}
+
 cv::Mat draw_features(const cv::Mat& left, const cv::Mat& right, const frontend::StereoFrameFeatures& f) {
   cv::Mat l, r;
   cv::cvtColor(left, l, cv::COLOR_GRAY2BGR);
@@ -133,7 +150,7 @@ nlohmann::json timing_block(const std::string& name, const std::vector<double>& 
 }
 
 void run_vo(const VoArgs& a) {
-  const frontend::FrontendConfig config = load_config(a.config);
+  frontend::FrontendConfig config = load_config(a.config);
   const auto dataset = io::open_stereo_dataset(a.dataset, io::parse_dataset_format(a.format), a.gt);
   const std::filesystem::path out(a.out);
   ensure_writable_directory(out);
@@ -142,6 +159,7 @@ void run_vo(const VoArgs& a) {
   spdlog::info("vo: {} ({} frames, using {}..{})", dataset->name(), dataset->size(), first, last - 1);
 
   const StereoCalibration& calib = dataset->calibration();
+  config = with_camera_defaults(a.config, *dataset, first, config);
   const frontend::StereoFrontend fe(calib, config);
   frontend::StereoVisualOdometry vo(fe.camera(), config.vo, fe.extractor().scales());
   const std::size_t sample =
@@ -181,14 +199,14 @@ void run_vo(const VoArgs& a) {
       extract_ms.push_back(f.extract_ms);
       match_ms.push_back(f.match_ms);
       measurements = static_cast<int>(f.measurements.size());
-      est = vo.track(f);
+      est = vo.track(f, frame->timestamp);
       vo_ms.push_back(est.ms);
       if (!png_written && i - first >= sample) {  // the sample frame, or the next one that loads
         write_png(out / "vo_features.png", draw_features(frame->left, frame->right, f));
         png_written = true;
       }
     } else {
-      est = vo.skip_frame(frontend::VoStatus::kMissingImage);
+      est = vo.skip_frame(frontend::VoStatus::kMissingImage, dataset->timestamps()[i]);
     }
     total_ms.push_back(sw.elapsed_ms());
     T = T * est.relative_pose;
@@ -234,7 +252,15 @@ void run_vo(const VoArgs& a) {
     const PoseList& full = *dataset->ground_truth();
     gt = io::relative_to_first(PoseList(full.begin() + static_cast<std::ptrdiff_t>(first),
                                         full.begin() + static_cast<std::ptrdiff_t>(first + n)));
-    const eval::TrajectoryEvaluation& e = evaluation.emplace(eval::evaluate_trajectory(*gt, poses));
+    std::vector<char> mask;  // frames with ground truth (empty: all)
+    if (!dataset->ground_truth_mask().empty()) {
+      const auto& m = dataset->ground_truth_mask();
+      mask.assign(m.begin() + static_cast<std::ptrdiff_t>(first),
+                  m.begin() + static_cast<std::ptrdiff_t>(first + n));
+    }
+    const eval::TrajectoryEvaluation& e =
+        evaluation.emplace(eval::evaluate_trajectory_masked(*gt, poses, mask));
+    j["evaluated_frames"] = e.frames;
     j.update(eval::to_json(e));
     const double end_error = (gt->back().translation() - poses.back().translation()).norm();
     j["drift"] = {

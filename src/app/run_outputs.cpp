@@ -12,6 +12,7 @@
 #include "core/stopwatch.hpp"
 #include "eval/eval_plots.hpp"
 #include "eval/line_plot.hpp"
+#include "eval/masked_evaluation.hpp"
 #include "eval/report.hpp"
 #include "io/trajectory_io.hpp"
 
@@ -52,6 +53,17 @@ double peak_rss_mib() {
   return 0.0;
 }
 
+namespace {
+
+/// The last frame with measured ground truth (mask empty: the last frame).
+std::size_t last_with_ground_truth(const std::vector<char>& mask, std::size_t frames) {
+  std::size_t end = frames - 1;
+  while (!mask.empty() && end > 0 && !mask[end]) --end;
+  return end;
+}
+
+}  // namespace
+
 void write_run_outputs(const std::string& out_dir, const RunRecord& r, bool plots) {
   namespace fs = std::filesystem;
   const fs::path dir(out_dir);
@@ -74,17 +86,18 @@ void write_run_outputs(const std::string& out_dir, const RunRecord& r, bool plot
   std::string table;
   std::optional<eval::TrajectoryEvaluation> slam_evaluation, vo_evaluation;
   if (r.ground_truth) {
-    const eval::TrajectoryEvaluation& slam =
-        slam_evaluation.emplace(eval::evaluate_trajectory(*r.ground_truth, r.slam_poses));
-    const eval::TrajectoryEvaluation& vo =
-        vo_evaluation.emplace(eval::evaluate_trajectory(*r.ground_truth, r.vo_poses));
+    const eval::TrajectoryEvaluation& slam = slam_evaluation.emplace(
+        eval::evaluate_trajectory_masked(*r.ground_truth, r.slam_poses, r.ground_truth_mask));
+    const eval::TrajectoryEvaluation& vo = vo_evaluation.emplace(
+        eval::evaluate_trajectory_masked(*r.ground_truth, r.vo_poses, r.ground_truth_mask));
+    j["evaluated_frames"] = slam.frames;  // the frames with ground truth
     j["slam"] = eval::to_json(slam);
     j["vo"] = eval::to_json(vo);
     const double path = slam.path_length_m;
+    const std::size_t end = last_with_ground_truth(r.ground_truth_mask, r.slam_poses.size());
     auto drift = [&](const PoseList& est) {
-      return path > 0
-                 ? 100.0 * (est.back().translation() - r.ground_truth->back().translation()).norm() / path
-                 : 0.0;
+      return path > 0 ? 100.0 * (est[end].translation() - (*r.ground_truth)[end].translation()).norm() / path
+                      : 0.0;
     };
     j["slam"]["end_point_drift_percent"] = drift(r.slam_poses);
     j["vo"]["end_point_drift_percent"] = drift(r.vo_poses);

@@ -29,6 +29,7 @@ struct RunRecord {
   PoseList slam_poses;
   PoseList vo_poses;
   std::optional<PoseList> ground_truth;  ///< relative to the first processed frame
+  std::vector<char> ground_truth_mask;    ///< per frame: 1 if ground_truth is measured there (empty: all)
   std::vector<io::MapPoint> map;
   std::vector<double> frontend_ms, vo_ms, backend_ms;
   std::vector<double> ess_fraction;  ///< ESS / N per step

@@ -1,5 +1,8 @@
 #include "app/stereo_config.hpp"
 
+#include <algorithm>
+#include <cmath>
+
 #include "backend/rbpf/rbpf_config.hpp"
 #include "core/config_node.hpp"
 
@@ -75,6 +78,33 @@ StereoConfig default_stereo_config() {
   // per-frame jitter, ~5 cm, dominates there), drift 0.530 -> 0.513 %.
   c.measurement.use_descriptors = true;
   return c;
+}
+
+void apply_camera_defaults(const YAML::Node& root, const StereoCalibration& calibration, StereoConfig& c) {
+  if (!(calibration.fx > 0.0) || !(calibration.baseline > 0.0) || calibration.width <= 0 ||
+      calibration.height <= 0)
+    return;
+  auto absent = [&](const char* section, const char* sub, const char* key) {
+    if (!root || !root.IsMap() || !root[section]) return true;
+    const YAML::Node s = sub ? root[section][sub] : root[section];
+    return !s || !s.IsMap() || !s[key];
+  };
+  const double fb = calibration.fx * calibration.baseline;  // disparity (px) × depth (m)
+  const double width = calibration.width, height = calibration.height;
+  const double area = width * height / (1241.0 * 376.0);
+  const double min_depth = std::min(1.0, fb / (0.3 * width));
+  const double max_depth = std::min(80.0, fb / 4.8);
+  if (absent("frontend", "stereo", "min_depth_m")) c.frontend.stereo.min_depth_m = min_depth;
+  if (absent("frontend", "stereo", "max_depth_m")) c.frontend.stereo.max_depth_m = max_depth;
+  if (absent("measurement", nullptr, "min_depth")) c.measurement.min_depth = min_depth;
+  if (absent("measurement", nullptr, "max_depth")) c.measurement.max_depth = max_depth;
+  if (absent("measurement", nullptr, "clutter_rate")) c.measurement.clutter_rate = 10.0 * area;
+  if (absent("frontend", "orb", "features"))
+    c.frontend.orb.features = static_cast<int>(std::lround(2000.0 * std::min(1.0, area)));
+  if (absent("pipeline", nullptr, "grid_columns"))
+    c.pipeline.grid_columns = std::max(1, static_cast<int>(std::lround(width / 124.1)));
+  if (absent("pipeline", nullptr, "grid_rows"))
+    c.pipeline.grid_rows = std::max(1, static_cast<int>(std::lround(height / 94.0)));
 }
 
 StereoConfig parse_stereo_config(const YAML::Node& root, const std::string& origin) {

@@ -48,6 +48,14 @@ struct StereoConfig {
 /// Defaults for the stereo pipeline (KITTI, paper 000's 20 m range, 10 particles).
 StereoConfig default_stereo_config();
 
+/// Camera-aware defaults: every key below that `root` does not set follows from the rectified calibration
+/// (f·b, image size), scaled so that the KITTI 00-02 rig (f·b = 386 px·m, 1241×376) keeps its measured
+/// values: the depth range (frontend.stereo.{min,max}_depth_m, measurement.{min,max}_depth: largest
+/// disparity 30 % of the width capped at 1 m, smallest disparity 4.8 px capped at 80 m), the clutter rate
+/// (measurement.clutter_rate: 10 per 1241×376 image, by area), ORB features (frontend.orb.features: 2000 per
+/// 1241×376, by area) and the selection grid (pipeline.grid_columns / grid_rows: cells of about 124×94 px).
+void apply_camera_defaults(const YAML::Node& root, const StereoCalibration& calibration, StereoConfig& config);
+
 /// Reads a parsed YAML document (from `origin`, named in messages) over the defaults.
 /// Throws ConfigError naming the key and origin on an unknown key, a wrong type or a value out of range.
 StereoConfig parse_stereo_config(const YAML::Node& root, const std::string& origin);

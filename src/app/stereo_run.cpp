@@ -67,6 +67,7 @@ int run_stereo(const RunOptions& options) {
                first, last - 1, frames, calibration.width, calibration.height, config.pipeline.algorithm,
                config.rbpf.particles, config.rbpf.seed);
 
+  apply_camera_defaults(root, calibration, config);  // keys the config leaves out follow from the rig
   StereoPipeline pipeline(*dataset, calibration, config, first, last);
   pipeline.add_stage(std::make_unique<TrajectoryStreamStage>(options.out_dir));
   RunRecord record;
@@ -82,6 +83,11 @@ int run_stereo(const RunOptions& options) {
     const PoseList& gt = *dataset->ground_truth();
     record.ground_truth = io::relative_to_first(
         PoseList(gt.begin() + static_cast<long>(first), gt.begin() + static_cast<long>(first + done)));
+    const std::vector<char>& mask = dataset->ground_truth_mask();
+    if (!mask.empty()) {
+      record.ground_truth_mask.assign(mask.begin() + static_cast<long>(first),
+                                      mask.begin() + static_cast<long>(first + done));
+    }
   }
   record.dataset_name = dataset->name();
   record.algorithm = config.pipeline.algorithm;

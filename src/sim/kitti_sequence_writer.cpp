@@ -98,8 +98,9 @@ StereoCalibration named_kitti_calibration(const std::string& name) {
   if (name == "kitti00-02") return make_calibration(718.856, 607.1928, 185.2157, 386.1448, 1241, 376);
   if (name == "kitti03") return make_calibration(721.5377, 609.5593, 172.854, 387.5744, 1242, 375);
   if (name == "kitti04-12") return make_calibration(707.0912, 601.8873, 183.1104, 379.8145, 1226, 370);
+  if (name == "euroc") return make_calibration(458.654, 367.215, 248.375, 458.654 * 0.110, 752, 480);
   throw ConfigError("unknown calibration '" + name +
-                    "' (use kitti00-02, kitti03, kitti04-12 or a calib.txt file)");
+                    "' (use kitti00-02, kitti03, kitti04-12, euroc or a calib.txt file)");
 }
 
 StereoCalibration resolve_calibration(const std::string& name_or_file, const std::string& size) {
@@ -112,7 +113,7 @@ StereoCalibration resolve_calibration(const std::string& name_or_file, const std
   }
   if (!fs::is_regular_file(name_or_file)) {
     throw InputError(name_or_file,
-                     "calibration file not found (named sets: kitti00-02, kitti03, kitti04-12)");
+                     "calibration file not found (named sets: kitti00-02, kitti03, kitti04-12, euroc)");
   }
   StereoCalibration c = io::read_kitti_odometry_calibration(name_or_file);
   c.width = 1241;
@@ -196,8 +197,19 @@ SequenceRenderSummary render_kitti_sequence(const SequenceRenderOptions& options
       sequences / (options.sequence + ".partial." + std::to_string(static_cast<long>(::getpid())));
   remove_quietly(temp_dir);
 
+  // The written frames: the trajectory index each shows and its timestamp (dropped and duplicated frames).
+  std::vector<std::size_t> shown;
+  std::vector<double> times;
+  for (std::size_t i = range.begin; i < range.end; ++i) {
+    if (options.drop_every > 0 && (i - range.begin) % options.drop_every == options.drop_every - 1) continue;
+    const std::size_t j = shown.size();
+    const bool duplicate = options.duplicate_every > 0 && j > 0 && j % options.duplicate_every == 0;
+    shown.push_back(duplicate ? shown.back() : i);
+    times.push_back(static_cast<double>(options.drop_every > 0 ? i - range.begin : j) / options.frame_rate);
+  }
+
   SequenceRenderSummary summary;
-  summary.frames = range.end - range.begin;
+  summary.frames = shown.size();
   summary.sequence_dir = final_dir;
   summary.poses_file = poses_dir / (options.sequence + ".txt");
   try {
@@ -234,7 +246,7 @@ SequenceRenderSummary render_kitti_sequence(const SequenceRenderOptions& options
         try {
           const auto slot = static_cast<std::size_t>(omp_get_thread_num()) % threads;
           if (!renderers[slot]) renderers[slot] = std::make_unique<StereoRenderer>(world, calib, ropt);
-          const std::size_t i = range.begin + j;
+          const std::size_t i = shown[j];  // a duplicate renders its source frame again: the same bytes
           RenderedFrame& f = frames[slot];
           renderers[slot]->render(trajectory[i], static_cast<double>(i) / options.frame_rate, i, f,
                                   options.depth);
@@ -274,12 +286,12 @@ SequenceRenderSummary render_kitti_sequence(const SequenceRenderOptions& options
     write_text_file_atomically(temp_dir / "times.txt", [&](std::ostream& out) {
       char buf[64];
       for (std::size_t j = 0; j < summary.frames; ++j) {
-        std::snprintf(buf, sizeof(buf), "%.6e\n", static_cast<double>(j) / options.frame_rate);
+        std::snprintf(buf, sizeof(buf), "%.6e\n", times[j]);
         out << buf;
       }
     });
-    PoseList used(trajectory.begin() + static_cast<std::ptrdiff_t>(range.begin),
-                  trajectory.begin() + static_cast<std::ptrdiff_t>(range.end));
+    PoseList used;
+    for (std::size_t i : shown) used.push_back(trajectory[i]);
     io::write_kitti_poses(summary.poses_file.string(), relative_to_first_exact(used));
     // Swap the complete folder in.
     const fs::path old_dir =

@@ -16,8 +16,9 @@
 
 namespace glmbslam::sim {
 
-/// The calibration of a named KITTI set: "kitti00-02" (1241×376), "kitti03" (1242×375), "kitti04-12"
-/// (1226×370). Throws ConfigError naming the known sets for any other name.
+/// The calibration of a named set: "kitti00-02" (1241×376), "kitti03" (1242×375), "kitti04-12" (1226×370),
+/// or "euroc" (the EuRoC MAV rig rectified: 752×480, f = 458 px, baseline 0.110 m). Throws ConfigError
+/// naming the known sets for any other name.
 StereoCalibration named_kitti_calibration(const std::string& name);
 
 /// A named set, or a KITTI calib.txt file (P0/P1 read by io::read_kitti_odometry_calibration) with the image
@@ -62,7 +63,13 @@ struct SequenceRenderOptions {
   bool images = true;  ///< false: only calib.txt, times.txt and the poses (dry run, no image folders)
   PhotometricOptions photometric;
   double frame_rate = 10.0;  ///< Hz (times.txt and the movers' timing)
-  int png_compression = 1;   ///< zlib level 0 (fastest, largest) … 9
+  /// > 0: every n-th written frame (n, 2n, …) repeats the previous one byte for byte (images and pose; a
+  /// duplicated frame in a log), its timestamp on the regular grid.
+  std::size_t duplicate_every = 0;
+  /// > 0: every n-th frame of the range (n−1, 2n−1, …) is left out; the others keep their timestamps, so
+  /// times.txt shows the gaps (dropped frames).
+  std::size_t drop_every = 0;
+  int png_compression = 1;  ///< zlib level 0 (fastest, largest) … 9
 };
 
 struct SequenceRenderSummary {
