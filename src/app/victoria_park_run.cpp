@@ -22,6 +22,8 @@
 //   map.txt          "x y existence" per landmark of the final map estimate; map.pcd the same as a PCD (z =
 //   0); trajectory.png   GPS fixes, estimated trajectory and map (like paper 003 Fig. 4);
 //   gps_errors.txt   "t error" per GPS fix used by position_rmse_m (scan time [s], ‖p̂ − p_gps‖ [m]).
+// SIGINT/SIGTERM stop the filter at the next scan: the outputs cover the steps done (no refinement), metrics.json
+// says "interrupted": true (with frames_requested), and the exit code is 130/143 (core/interrupt.hpp).
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -34,6 +36,7 @@
 #include <nlohmann/json.hpp>
 
 #include "app/baseline_filters.hpp"
+#include "app/global_options.hpp"
 #include "app/run_options.hpp"
 #include "app/victoria_park_config.hpp"
 #include "app/victoria_park_data.hpp"
@@ -44,6 +47,7 @@
 #include "backend/rbpf/glmb_slam.hpp"
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
+#include "core/interrupt.hpp"
 #include "core/parallel.hpp"
 #include "core/stopwatch.hpp"
 #include "eval/line_plot.hpp"
@@ -92,6 +96,7 @@ struct RunRecord {
   std::vector<double> ms, ess;
   int resamples = 0;
   double total_s = 0.0;
+  std::size_t steps_requested = 0;  ///< steps of the run; more than poses.size() when interrupted
   std::vector<io::MapPoint> map;
 };
 
@@ -100,11 +105,12 @@ RunRecord run_filter(Filter& filter, const std::vector<Motion::Control>& control
                      const std::vector<VpMeasurementSet>& measurements, int particles) {
   RunRecord rec;
   const std::size_t n = controls.size();
+  rec.steps_requested = n;
   rec.poses.reserve(n);
   rec.ms.reserve(n);
   rec.ess.reserve(n);
   Stopwatch total;
-  for (std::size_t k = 0; k < n; ++k) {
+  for (std::size_t k = 0; k < n && !interrupt_requested(); ++k) {
     Stopwatch w;
     filter.step(controls[k], measurements[k]);
     rec.ms.push_back(w.elapsed_ms());
@@ -149,6 +155,8 @@ void write_outputs(const std::filesystem::path& out, const VictoriaParkConfig& c
   j["seed"] = cfg.rbpf.seed;
   j["threads"] = thread_count();
   j["frames"] = rec.poses.size();
+  j["frames_requested"] = rec.steps_requested;
+  j["interrupted"] = rec.poses.size() < rec.steps_requested;
   j["duration_s"] = times.empty() ? 0.0 : times.back() - data.odometry.time_s.front();
   j["position_rmse_m"] = finite_or_null(err.rmse_m);
   j["gps_fixes_used"] = err.error_m.size();
@@ -249,6 +257,7 @@ int run_victoria_park(const RunOptions& options) {
   }
   if (options.first_frame != 0)
     throw ConfigError("--frames for Victoria Park must start at 0 (the filter starts at the first GPS fix)");
+  if (global_options().threads) cfg.threads = *global_options().threads;  // --threads wins over `threads:`
   if (cfg.threads > 0) set_thread_count(cfg.threads);
   cfg.rbpf.proposal = cfg.algorithm == "glmb1" ? "prior" : cfg.algorithm == "glmb-mh" ? "mh" : "optimal";
 
@@ -280,6 +289,7 @@ int run_victoria_park(const RunOptions& options) {
                times.empty() ? 0.0 : times.back() - data.odometry.time_s.front(), cfg.algorithm,
                cfg.rbpf.particles, cfg.rbpf.seed);
   RunRecord rec;
+  set_graceful_interrupts(true);  // SIGINT/SIGTERM: stop at the next scan and write the steps done
   if (cfg.algorithm == "deadreckoning") {
     DeadReckoning f(motion, cfg.initial_pose);
     rec = run_filter(f, controls, measurements, 1);
@@ -298,6 +308,11 @@ int run_victoria_park(const RunOptions& options) {
   } else {
     backend::GlmbSlam<Motion, Meas> f(motion, model, cfg.rbpf, cfg.initial_pose, cfg.mh);
     rec = run_filter(f, controls, measurements, cfg.rbpf.particles);
+  }
+  if (rec.poses.size() < times.size()) {
+    spdlog::warn("Victoria Park: interrupted after {} of {} steps; writing their outputs", rec.poses.size(),
+                 times.size());
+    times.resize(rec.poses.size());
   }
   write_outputs(options.out_dir, cfg, options, data, filt.fixes, times, rec, filt);
   return 0;
