@@ -13,6 +13,7 @@ TEST_PKGS=(
   libgtest-dev libgmock-dev libbenchmark-dev  # GoogleTest suite, Google Benchmark micro-benchmarks
   chromium  # loads report.html headless in the report test (tests/app/test_report_html_browser.cpp)
   snakemake python3-matplotlib python3-yaml slurmctld slurmd slurm-client munge  # experiment workflow and its local/Slurm CI stage (scripts/ci_workflow.sh)
+  clang-14 libclang-rt-14-dev  # libFuzzer targets of fuzz/ (scripts/fuzz.sh: clang with -fsanitize=fuzzer)
 )
 PKGS=("${BUILD_PKGS[@]}")
 if [ "${1:-}" = "--test" ]; then PKGS+=("${TEST_PKGS[@]}"); fi
