@@ -10,6 +10,7 @@
 #include "core/error.hpp"
 #include "core/interrupt.hpp"
 #include "core/logging.hpp"
+#include "core/progress.hpp"
 #include "core/parallel.hpp"
 
 int main(int argc, char** argv) {
@@ -19,12 +20,18 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   std::string log_level = "info";
   int threads = 0;
-  app.add_option("--log-level", log_level, "trace, debug, info, warn, error or off")->capture_default_str();
+  bool quiet = false;
+  auto* log_level_option =
+      app.add_option("--log-level", log_level, "trace, debug, info, warn, error or off")->capture_default_str();
+  app.add_flag("--quiet", quiet,
+               "for scripts: no progress bar and no info lines (log level warn unless --log-level is given); "
+               "warnings, errors and the results summary stay");
   auto* threads_option =
       app.add_option("--threads", threads, "worker threads (0 = all cores; overrides a config's threads:)")
           ->capture_default_str();
   app.parse_complete_callback([&] {
-    glmbslam::set_log_level(log_level);
+    glmbslam::set_log_level(quiet && log_level_option->count() == 0 ? "warn" : log_level);
+    if (quiet) glmbslam::ProgressReporter::set_enabled(false);
     glmbslam::set_thread_count(threads);
     if (threads_option->count() > 0) glmbslam::app::global_options().threads = threads;
   });

@@ -44,8 +44,10 @@ void ProgressReporter::update(std::size_t done, const std::string& extra) {
   const auto now = std::chrono::steady_clock::now();
   const double since_print = std::chrono::duration<double>(now - last_print_).count();
   const bool last = done >= total_;
+  if (last && printed_ >= total_) return;  // the final line is printed once
   if (!last && since_print < (tty_ ? 0.2 : 10.0)) return;
   last_print_ = now;
+  printed_ = done;
   const double elapsed = std::chrono::duration<double>(now - start_).count();
   const double rate = elapsed > 0 ? static_cast<double>(done) / elapsed : 0.0;
   const double eta = rate > 0 ? static_cast<double>(total_ - std::min(done, total_)) / rate : -1.0;
@@ -58,8 +60,10 @@ void ProgressReporter::update(std::size_t done, const std::string& extra) {
     const int filled = static_cast<int>(frac * width);
     std::string bar(static_cast<std::size_t>(filled), '#');
     bar.resize(width, '.');
-    std::fprintf(stderr, "\r[%s] %s %s\033[K", bar.c_str(), head, extra.c_str());
+    std::fprintf(stderr, "\r[%s] %s%s%s\033[K", bar.c_str(), head, extra.empty() ? "" : " ", extra.c_str());
     std::fflush(stderr);
+  } else if (extra.empty()) {
+    spdlog::info("{}", head);
   } else {
     spdlog::info("{} {}", head, extra);
   }

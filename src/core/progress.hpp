@@ -1,6 +1,7 @@
 #pragma once
-// Progress reporting for long runs: a live bar on a terminal (frame, rate, extra info, ETA), plain periodic
-// log lines otherwise (so CI logs and redirected output stay readable).
+// Progress reporting for long runs: a live bar on a terminal (frame, rate, extra info, ETA) redrawn at most
+// 5 times a second, plain log lines every 10 s otherwise (so CI logs and redirected output stay readable).
+// `glmbslam --quiet` disables it (set_enabled(false)).
 #include <chrono>
 #include <cstddef>
 #include <string>
@@ -17,7 +18,7 @@ class ProgressReporter {
 
   /// Reports that `done` steps are complete; `extra` (e.g. "landmarks 1234") is shown beside the rate.
   void update(std::size_t done, const std::string& extra = "");
-  /// Ends the bar (prints the final line).
+  /// Ends the bar: prints the final line unless update() already printed it (then `extra` is ignored).
   void finish(const std::string& extra = "");
 
   /// Disables all output (for tests and quiet runs).
@@ -28,6 +29,7 @@ class ProgressReporter {
   std::string label_;
   bool tty_;
   bool finished_ = false;
+  std::size_t printed_ = 0;  ///< `done` of the last line printed (an update at total_ prints once)
   std::chrono::steady_clock::time_point start_;
   std::chrono::steady_clock::time_point last_print_;
 };

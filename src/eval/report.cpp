@@ -42,6 +42,7 @@ void kitti_table(std::string& out, const char* name, const KittiResult& k) {
                 fmt("%.6f", k.t_rel_percent).c_str(), fmt("%.6f", k.r_rel_deg_per_100m).c_str(), k.segments);
   out += line;
   for (const auto& l : k.per_length) {
+    if (l.segments == 0) continue;  // the path is shorter than this length: nothing to show
     std::snprintf(line, sizeof(line), "  %6.0f m   t_rel %10s %%   r_rel %10s deg/100m   segments %d\n",
                   l.length_m, fmt("%.4f", l.t_rel_percent).c_str(), fmt("%.4f", l.r_rel_deg_per_100m).c_str(),
                   l.segments);

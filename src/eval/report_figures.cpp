@@ -220,6 +220,8 @@ void add_plane_view(HtmlReport& report, const std::string& title, const std::vec
   }
   json layout = axes_layout("x [m]", "y [m]");
   layout["yaxis"]["scaleanchor"] = "x";
+  layout["legend"] = {
+      {"x", 0.01}, {"y", 0.99}, {"bgcolor", "rgba(255,255,255,0.7)"}};  // clear of the colour bar
   report.add_plot(title, traces, layout, 650);
 }
 

@@ -90,7 +90,8 @@ TEST_F(ReportInBrowser, StereoRunAndVoReportsDrawTheMapPathsAndErrors) {
   const test::BrowserLoad run = check_page(dir_ / "run" / "report.html");
   // The first plot is the 3D view: landmarks, ground truth, VO and SLAM paths, all drawn by WebGL.
   EXPECT_EQ(test::attribute_of(run.dom, "class=\"plot", "data-traces"), "4");
-  EXPECT_EQ(test::attribute_of(run.dom, "<body", "data-plots"), "6");  // 3D, top, error, t_rel, r_rel, ESS
+  // 3D, top view, error along the path, t_rel, r_rel, ESS, landmarks over time
+  EXPECT_EQ(test::attribute_of(run.dom, "<body", "data-plots"), "7");
   // The 3D view (top of the page, below the summary) is not blank.
   const cv::Mat shot = cv::imread(run.screenshot.string());
   if (!shot.empty()) {

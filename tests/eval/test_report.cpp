@@ -39,6 +39,9 @@ TEST(Report, JsonHasTheDesignKeys) {
   const std::string table = format_table(e);
   EXPECT_NE(table.find("KITTI short"), std::string::npos);
   EXPECT_NE(table.find("Sim(3)"), std::string::npos);
+  // Lengths no segment fits in are left out of the table (the JSON keeps them as null).
+  EXPECT_NE(table.find("   100 m"), std::string::npos);
+  EXPECT_EQ(table.find("   200 m"), std::string::npos);
 }
 
 TEST(Report, WritesJsonAtomically) {

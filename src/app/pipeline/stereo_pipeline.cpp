@@ -44,6 +44,7 @@ void StereoPipeline::run(RunRecord& record, const std::function<bool()>& stop) {
       const FilterStep& step = filter_->step(work, estimate, vo_.odometry(), k);
       record.backend_ms.push_back(step.ms);
       const auto& report = filter_->filter().last_report();
+      record.tracks.push_back(report.tracks);
       if (k > 0) {
         record.ess_fraction.push_back(report.ess / static_cast<double>(config_.rbpf.particles));
         record.resampled.push_back(report.resampled);
