@@ -1,0 +1,41 @@
+#include "app/victoria_park_ml.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include "backend/mlslam/rfs_ml_slam.hpp"
+
+namespace glmbslam::app {
+
+double solve_victoria_park_ml(const backend::AckermannMotion& motion,
+                              const backend::VictoriaParkMeasurement& model,
+                              const backend::MlSlamConfig& config, const Eigen::Vector3d& initial_pose,
+                              const std::vector<backend::AckermannMotion::Control>& controls,
+                              const std::vector<VpMeasurementSet>& measurements, bool standalone,
+                              VpPoseList& poses, std::vector<Eigen::Vector2d>& map) {
+  using Slam = backend::RfsMlSlam<backend::AckermannMotion, backend::VictoriaParkMeasurement>;
+  // step 0 is the initial pose without a scan; the control of step 0 is never used
+  Slam::ControlList u{backend::AckermannMotion::Control::Zero(3, 0)};
+  u.insert(u.end(), controls.begin(), controls.end());
+  std::vector<Slam::MeasurementSet> Z{Slam::MeasurementSet{}};
+  Z.insert(Z.end(), measurements.begin(), measurements.end());
+  Slam::PoseList x;
+  Slam::LandmarkList m(map.begin(), map.end());
+  const Slam slam(motion, model, config);
+  backend::MlSlamReport r;
+  if (standalone) {
+    r = slam.solve_from_odometry(initial_pose, u, Z, x, m);
+  } else {
+    x.push_back(initial_pose);
+    x.insert(x.end(), poses.begin(), poses.end());
+    r = slam.solve(x, u, Z, m);
+  }
+  spdlog::info(
+      "RFS-ML: {} rounds, log-likelihood {:.1f} -> {:.1f}, {} births, {} deaths, {} merges, {:.1f} s",
+      r.rounds, r.initial_log_likelihood, r.final_log_likelihood, r.births, r.deaths, r.merges,
+      r.ms / 1000.0);
+  poses.assign(x.begin() + 1, x.end());
+  map.assign(m.begin(), m.end());
+  return r.ms;
+}
+
+}  // namespace glmbslam::app
