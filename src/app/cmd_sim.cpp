@@ -12,14 +12,18 @@ void register_sim_command(CLI::App& app) {
   auto options = std::make_shared<SimOptions>();
   auto* cmd =
       app.add_subcommand("sim", "Monte Carlo runs of the 2D simulations (paper 000, paper 003 benchmark)");
-  cmd->add_option("--scenario", options->scenario, "paper2019 or phdslam3")->capture_default_str();
+  cmd->add_option("--scenario", options->scenario,
+                  "paper2019, phdslam3 or paper004 (paper 004's small 2D problem)")
+      ->capture_default_str();
+  cmd->add_option("--refine", options->refine, "ml: refine the filter's estimate by RFS maximum likelihood");
   cmd->add_option(
          "--algorithm", options->algorithm,
          "glmb2 (δ-GLMB-SLAM 2.0), glmb1 (1.0), glmb_mh (δ-GLMB map with the multi-hypothesis "
          "proposal of paper 003), phd1 (RB-PHD-SLAM 1.0), phd3 (PHD-SLAM 3.0: GM-PHD map with the "
          "multi-hypothesis proposal), lmb / lmb1 (LMB-SLAM with the optimal / prior proposal), fastslam2 "
          "(FastSLAM 2.0, maximum-likelihood association), fastslam2-known (FastSLAM 2.0 with the "
-         "simulator's true landmark labels), dr (dead reckoning)")
+         "simulator's true landmark labels), dr (dead reckoning), mlslam (RFS maximum-likelihood SLAM of "
+         "paper 004 from the odometry)")
       ->capture_default_str();
   cmd->add_option("--particles", options->particles, "particles per filter")->capture_default_str();
   cmd->add_option("--runs", options->runs, "Monte Carlo runs (run in parallel)")->capture_default_str();
@@ -31,10 +35,9 @@ void register_sim_command(CLI::App& app) {
   cmd->add_option("--clutter", options->clutter, "clutter rate λ_c per scan (paper2019; default 5)");
   cmd->add_option("--seed", options->seed, "filter seed base (run r uses seed·1000003 + r)")
       ->capture_default_str();
-  cmd->add_option(
-      "--config", options->config_file,
-      "YAML with optional 'rbpf', 'phd' (phd1, phd3), 'mh' (multi-hypothesis proposal), 'lmb' and "
-      "'fastslam' mappings");
+  cmd->add_option("--config", options->config_file,
+                  "YAML with optional 'rbpf', 'phd' (phd1, phd3), 'mh' (multi-hypothesis proposal), 'lmb', "
+                  "'fastslam' and 'mlslam' mappings");
   cmd->add_option("--out", options->out_dir, "output folder (metrics.json, PNG plots)")->required();
   cmd->add_option("--data", options->data_dir, "shared data root (default $GLMBSLAM_DATA or ../shared/data)");
   cmd->add_option("--max-steps", options->max_steps, "only the first N steps (0 = all)")

@@ -19,6 +19,7 @@ struct RunOptions {
   std::optional<std::string> algorithm;  ///< --algorithm overrides the config (glmb2, glmb1, …)
   std::size_t first_frame = 0;           ///< --frames A:B (B exclusive; 0:0 = all)
   std::size_t last_frame = 0;
+  std::string refine;  ///< --refine: "" or "ml" (RFS maximum-likelihood refinement, backend/mlslam)
 };
 
 /// Parses "A:B" (B exclusive, either side may be empty) into first/last; throws ConfigError otherwise.

@@ -1,4 +1,5 @@
 #include "app/sim_runner.hpp"
+#include "app/sim_ml_refinement.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -29,6 +30,7 @@
 #include "eval/line_plot.hpp"
 #include "eval/ospa.hpp"
 #include "eval/report.hpp"
+#include "sim/scenario_paper004.hpp"
 #include "sim/scenario_paper2019.hpp"
 #include "sim/scenario_phdslam3.hpp"
 
@@ -54,6 +56,8 @@ struct RunRecord {
   eval::OspaResult final_ospa;
   eval::GospaResult final_gospa;
   int final_cardinality_error = 0;
+  double filter_position_rmse = 0.0;  ///< --refine ml: the filter's, before the refinement
+  double ml_ms = 0.0;                 ///< --refine ml / mlslam: wall time of the ML solve
 };
 
 /// Ground-truth landmarks seen (in the field of view of the true pose) at any step ≤ k, for every k.
@@ -89,6 +93,17 @@ eval::PointSet estimate_set(const LandmarkList& lms) {
   return y;
 }
 
+/// OSPA, GOSPA and the cardinality error of rec.final_map against the landmarks seen during the run.
+void score_final_map(RunRecord& rec, const sim::Scenario2D& s, const std::vector<std::vector<int>>& seen) {
+  eval::PointSet est(2, static_cast<Eigen::Index>(rec.final_map.size()));
+  for (std::size_t i = 0; i < rec.final_map.size(); ++i)
+    est.col(static_cast<Eigen::Index>(i)) = rec.final_map[i];
+  const eval::PointSet truth = truth_set(s, seen.back());
+  rec.final_ospa = eval::ospa(truth, est, kOspaC, kOspaP);
+  rec.final_gospa = eval::gospa(truth, est, kGospaC, kGospaP);
+  rec.final_cardinality_error = static_cast<int>(rec.final_map.size()) - static_cast<int>(seen.back().size());
+}
+
 /// Drives one filter over the scenario (steps 1..K−1 with u_k and Z_k).
 template <class Slam>
 RunRecord drive(Slam& slam, const sim::Scenario2D& s, const std::vector<std::vector<int>>& seen,
@@ -115,14 +130,21 @@ RunRecord drive(Slam& slam, const sim::Scenario2D& s, const std::vector<std::vec
       rec.cardinality.push_back(static_cast<double>(lms.size()));
     }
   }
-  const auto lms = slam.landmarks();
-  for (const auto& l : lms) rec.final_map.emplace_back(l.mean.template head<2>());
-  const eval::PointSet truth = truth_set(s, seen.back());
-  const eval::PointSet est = estimate_set(lms);
-  rec.final_ospa = eval::ospa(truth, est, kOspaC, kOspaP);
-  rec.final_gospa = eval::gospa(truth, est, kGospaC, kGospaP);
-  rec.final_cardinality_error = static_cast<int>(lms.size()) - static_cast<int>(seen.back().size());
+  for (const auto& l : slam.landmarks()) rec.final_map.emplace_back(l.mean.template head<2>());
+  score_final_map(rec, s, seen);
   return rec;
+}
+
+/// An ML solution (standalone or refinement) as the run's estimate.
+void apply_ml(RunRecord& rec, const MlSimResult& ml, const sim::Scenario2D& s,
+              const std::vector<std::vector<int>>& seen) {
+  double se = 0.0;
+  for (std::size_t k = 1; k < s.steps(); ++k) se += (rec.estimates[k] - s.poses[k]).head<2>().squaredNorm();
+  rec.filter_position_rmse = std::sqrt(se / static_cast<double>(std::max<std::size_t>(s.steps() - 1, 1)));
+  rec.estimates = ml.poses;
+  rec.final_map = ml.map;
+  rec.ml_ms = ml.ms;
+  score_final_map(rec, s, seen);
 }
 
 /// Dead reckoning (the floor): the odometry integrated with the motion model, no map.
@@ -160,6 +182,7 @@ struct Filters {
   backend::PhdConfig phd;        ///< phd1 (config key "phd")
   backend::PhdConfig phd3;       ///< phd3 = PHD-SLAM 3.0 (config key "phd3"; defaults: paper 003 Sec. VI)
   backend::MhProposalConfig mh;  ///< the multi-hypothesis proposal of glmb_mh and phd3 (config key "mh")
+  backend::MlSlamConfig ml;      ///< mlslam and --refine ml (config key "mlslam")
   BaselineConfigs baselines;     ///< lmb, lmb1, fastslam2, fastslam2-known (config keys "lmb", "fastslam")
   Filters() {
     phd3.proposal = "mh";
@@ -170,9 +193,11 @@ struct Filters {
   }
 };
 
+/// The recursive filters (everything but mlslam).
 template <class Motion>
-RunRecord run_filter(const Motion& motion, const RangeBearingModel& model, const sim::Scenario2D& s,
-                     const SimOptions& o, Filters f, int run, const std::vector<std::vector<int>>& seen) {
+RunRecord run_recursive_filter(const Motion& motion, const RangeBearingModel& model, const sim::Scenario2D& s,
+                               const SimOptions& o, Filters f, int run,
+                               const std::vector<std::vector<int>>& seen) {
   const std::uint64_t seed = o.seed * 1000003ULL + static_cast<std::uint64_t>(run);
   const bool ospa_steps = o.scenario == "paper2019";
   if (o.algorithm == "dr") {
@@ -199,10 +224,28 @@ RunRecord run_filter(const Motion& motion, const RangeBearingModel& model, const
   return drive(slam, s, seen, ospa_steps, o.particles);
 }
 
+template <class Motion>
+RunRecord run_filter(const Motion& motion, const RangeBearingModel& model, const sim::Scenario2D& s,
+                     const SimOptions& o, const Filters& f, int run,
+                     const std::vector<std::vector<int>>& seen) {
+  if (o.algorithm == "mlslam") {
+    RunRecord rec;
+    rec.estimates.assign(s.steps(), s.initial_pose());
+    apply_ml(rec, run_mlslam(motion, model, s, f.ml), s, seen);
+    rec.ms.assign(s.steps() - 1, rec.ml_ms / static_cast<double>(std::max<std::size_t>(s.steps() - 1, 1)));
+    return rec;
+  }
+  RunRecord rec = run_recursive_filter(motion, model, s, o, f, run, seen);
+  if (o.refine == "ml")
+    apply_ml(rec, refine_ml(motion, model, s, f.ml, rec.estimates, rec.final_map), s, seen);
+  return rec;
+}
+
 RangeBearingModel model_for(const sim::Scenario2D& s) {
   backend::RangeBearingConfig c;
   c.sigma_range = std::sqrt(s.sensor.measurement_noise(0, 0));
   c.sigma_bearing = std::sqrt(s.sensor.measurement_noise(1, 1));
+  c.min_range = std::max(s.sensor.min_range, c.min_range);
   c.max_range = s.sensor.max_range;
   c.half_fov = s.sensor.max_bearing;
   c.p_detect_inside = s.sensor.detection_probability;
@@ -268,6 +311,7 @@ Filters load_filters(const SimOptions& o) {
     if (root.has("phd")) backend::load_phd_config(root.child("phd"), f.phd);
     if (root.has("phd3")) backend::load_phd_config(root.child("phd3"), f.phd3);
     if (root.has("mh")) backend::load_mh_proposal_config(root.child("mh"), f.mh);
+    if (root.has("mlslam")) backend::load_mlslam_config(root.child("mlslam"), f.ml);
     load_baseline_configs(root, f.baselines);
     root.finish();
   }
@@ -339,14 +383,16 @@ void write_plots(const std::filesystem::path& dir, const sim::Scenario2D& s0, co
 }  // namespace
 
 json run_simulation(const SimOptions& o) {
-  if (o.scenario != "paper2019" && o.scenario != "phdslam3") {
-    throw ConfigError("--scenario must be paper2019 or phdslam3, got '" + o.scenario + "'");
+  if (o.scenario != "paper2019" && o.scenario != "phdslam3" && o.scenario != "paper004") {
+    throw ConfigError("--scenario must be paper2019, phdslam3 or paper004, got '" + o.scenario + "'");
   }
+  if (!o.refine.empty() && o.refine != "ml") throw ConfigError("--refine must be ml, got '" + o.refine + "'");
   if (o.algorithm != "glmb2" && o.algorithm != "glmb1" && o.algorithm != "phd1" && o.algorithm != "glmb_mh" &&
-      o.algorithm != "phd3" && o.algorithm != "dr" && !is_baseline_algorithm(o.algorithm)) {
+      o.algorithm != "phd3" && o.algorithm != "dr" && o.algorithm != "mlslam" &&
+      !is_baseline_algorithm(o.algorithm)) {
     throw ConfigError(
         "--algorithm must be glmb2, glmb1, glmb_mh, phd1, phd3, lmb, lmb1, fastslam2, "
-        "fastslam2-known or dr, got '" +
+        "fastslam2-known, dr or mlslam, got '" +
         o.algorithm + "'");
   }
   if (o.particles < 1) throw ConfigError("--particles must be at least 1");
@@ -376,8 +422,11 @@ json run_simulation(const SimOptions& o) {
     }
     clutter = po.clutter_rate;
   }
+  if (o.scenario == "paper004") clutter = sim::make_paper004_scenario({o.clutter, 0}).sensor.clutter_rate;
   auto scenario_of = [&](int run) {
     if (o.scenario == "paper2019") return paper;
+    if (o.scenario == "paper004")
+      return sim::make_paper004_scenario({o.clutter, static_cast<std::uint64_t>(run)});
     sim::PhdSlam3Options opt;
     opt.max_steps = o.max_steps;
     return sim::make_phdslam3_scenario(env, static_cast<std::uint64_t>(run), opt);
@@ -511,6 +560,14 @@ json run_simulation(const SimOptions& o) {
     m["ospa_final_m"] = summary_json(final_ospa);
   }
   m["cardinality_error"] = json{{"mean", mean_of(card_err)}, {"mean_abs", mean_of(abs_card)}};
+  if (o.refine == "ml" || o.algorithm == "mlslam") {
+    std::vector<double> filter_rmse, ml_ms;
+    for (const auto& rec : records)
+      filter_rmse.push_back(rec.filter_position_rmse), ml_ms.push_back(rec.ml_ms);
+    m["ml"] = json{{"ms_per_run", summary_json(ml_ms)}};
+    if (o.refine == "ml") m["ml"]["filter_position_rmse_per_run_m"] = summary_json(filter_rmse);
+    m["refine"] = o.refine;
+  }
   m["ms_per_step"] = summary_json(ms_all);
   m["ess_percent"] = mean_of(ess_all);
   m["resampling_percent"] =

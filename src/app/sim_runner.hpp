@@ -16,14 +16,16 @@
 namespace glmbslam::app {
 
 struct SimOptions {
-  std::string scenario = "paper2019";  ///< paper2019 | phdslam3
-  std::string algorithm = "glmb2";     ///< glmb2 | glmb1 | glmb_mh | phd1 | dr
+  std::string scenario = "paper2019";  ///< paper2019 | phdslam3 | paper004
+  std::string algorithm = "glmb2";     ///< glmb2 | glmb1 | glmb_mh | phd1 | phd3 | dr | mlslam
+  std::string refine;                  ///< "" or "ml": RFS-ML refinement of the filter's estimate
   int particles = 10;
   int runs = 1;
   int first_run = 0;        ///< runs first_run .. first_run + runs − 1 (run index = data realisation, seed)
   double clutter = -1.0;    ///< λ_c (paper2019 only); < 0 = the scenario default (5)
   std::uint64_t seed = 0;   ///< filter seed base: run r uses seed·1000003 + r
-  std::string config_file;  ///< optional YAML: children "rbpf" (load_rbpf_config), "phd" (load_phd_config)
+  std::string config_file;  ///< optional YAML: children "rbpf" (load_rbpf_config), "phd" (load_phd_config),
+                            ///< "mlslam" (load_mlslam_config)
   std::string out_dir;      ///< metrics.json and plots
   std::string data_dir;     ///< shared data root (phdslam3); empty = $GLMBSLAM_DATA or ../shared/data
   std::size_t max_steps = 0;  ///< 0 = all steps (phdslam3: truncate for quick runs)

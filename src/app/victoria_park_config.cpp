@@ -29,6 +29,9 @@ VictoriaParkConfig default_victoria_park_config() {
   // glmb-mh and phd3 with N = 1: the pose is the MH-ID's mean, not a draw (mh.single_particle; the figures
   // are in config/victoria_park.yaml)
   c.mh.single_particle = "mean";
+  // RFS-ML (mlslam, --refine ml): births and merges on the scale of the tree spacing, not 10 σ_r = 10 m
+  c.ml.birth_radius_m = 3.0;
+  c.ml.merge_distance_m = 2.0;
   // fastslam2: the same resampling and single-particle settings as the δ-GLMB filters
   c.baselines.fastslam.resampling = "ess";
   c.baselines.fastslam.ess_threshold = 0.1;
@@ -46,7 +49,7 @@ void load_victoria_park_config(const std::string& path, VictoriaParkConfig& conf
 void load_victoria_park_config(ConfigNode node, VictoriaParkConfig& config) {
   node.read_choice(
       "algorithm", config.algorithm,
-      {"glmb2", "glmb1", "glmb-mh", "phd1", "phd3", "deadreckoning", "lmb", "lmb1", "fastslam2"});
+      {"glmb2", "glmb1", "glmb-mh", "phd1", "phd3", "deadreckoning", "mlslam", "lmb", "lmb1", "fastslam2"});
   if (node.has("initial_pose")) {
     std::vector<double> p;
     node.read("initial_pose", p);
@@ -56,6 +59,7 @@ void load_victoria_park_config(ConfigNode node, VictoriaParkConfig& config) {
   node.read("skip_empty_scans", config.skip_empty_scans);
   node.read_in_range("clutter_rate", config.clutter_rate, 0.0, 1e4);
   node.read_in_range("gps_match_window_s", config.gps_match_window_s, 0.0, 1e3);
+  backend::load_mlslam_config(node.child("mlslam"), config.ml);
   node.read("write_plot", config.write_plot);
   node.read_in_range("threads", config.threads, 0, 1024);
   {

@@ -6,6 +6,7 @@
 #include <Eigen/Core>
 
 #include "app/baseline_configs.hpp"
+#include "backend/mlslam/mlslam_config.hpp"
 #include "backend/models/ackermann_motion.hpp"
 #include "backend/models/range_bearing_model.hpp"
 #include "backend/phd/phd_config.hpp"
@@ -33,6 +34,7 @@ struct VictoriaParkConfig {
   backend::PhdConfig phd;        ///< phd1; particles and seed come from rbpf, proposal is 'prior'
   backend::PhdConfig phd3;       ///< phd3; particles and seed come from rbpf, proposal is 'mh'
   BaselineConfigs baselines;     ///< lmb, lmb1, fastslam2 (sections "lmb", "fastslam")
+  backend::MlSlamConfig ml;      ///< mlslam and --refine ml (section "mlslam")
   bool write_plot = true;
   int threads = 1;  ///< worker threads (0 = all cores); 1 = the published single-core protocol
 };
