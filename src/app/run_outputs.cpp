@@ -62,6 +62,23 @@ std::size_t last_with_ground_truth(const std::vector<char>& mask, std::size_t fr
   return end;
 }
 
+/// The record restricted to the frames with ground truth (for the plots and the report, which compare per
+/// frame).
+RunRecord frames_with_ground_truth(const RunRecord& r) {
+  RunRecord kept = r;
+  kept.slam_poses.clear();
+  kept.vo_poses.clear();
+  kept.ground_truth->clear();
+  kept.ground_truth_mask.clear();
+  for (std::size_t i = 0; i < r.ground_truth_mask.size(); ++i) {
+    if (!r.ground_truth_mask[i]) continue;
+    kept.slam_poses.push_back(r.slam_poses[i]);
+    kept.vo_poses.push_back(r.vo_poses[i]);
+    kept.ground_truth->push_back((*r.ground_truth)[i]);
+  }
+  return kept;
+}
+
 }  // namespace
 
 void write_run_outputs(const std::string& out_dir, const RunRecord& r, bool plots) {
@@ -85,6 +102,10 @@ void write_run_outputs(const std::string& out_dir, const RunRecord& r, bool plot
   if (r.interrupted && !r.slam_poses.empty()) j["last_frame_done"] = r.first_frame + r.slam_poses.size() - 1;
   std::string table;
   std::optional<eval::TrajectoryEvaluation> slam_evaluation, vo_evaluation;
+  // plots and the report compare per frame: with partial ground truth they show the frames that have it
+  std::optional<RunRecord> evaluated;
+  if (r.ground_truth && !r.ground_truth_mask.empty()) evaluated = frames_with_ground_truth(r);
+  const RunRecord& shown = evaluated ? *evaluated : r;
   if (r.ground_truth) {
     const eval::TrajectoryEvaluation& slam = slam_evaluation.emplace(
         eval::evaluate_trajectory_masked(*r.ground_truth, r.slam_poses, r.ground_truth_mask));
@@ -103,9 +124,10 @@ void write_run_outputs(const std::string& out_dir, const RunRecord& r, bool plot
     j["vo"]["end_point_drift_percent"] = drift(r.vo_poses);
     table = "SLAM\n" + eval::format_table(slam) + "\nVO\n" + eval::format_table(vo);
     if (plots) {
-      eval::write_evaluation_plots((dir / "plots" / "slam").string(), *r.ground_truth, r.slam_poses, slam,
+      const RunRecord& e = shown;
+      eval::write_evaluation_plots((dir / "plots" / "slam").string(), *e.ground_truth, e.slam_poses, slam,
                                    "delta-GLMB-SLAM");
-      eval::write_evaluation_plots((dir / "plots" / "vo").string(), *r.ground_truth, r.vo_poses, vo,
+      eval::write_evaluation_plots((dir / "plots" / "vo").string(), *e.ground_truth, e.vo_poses, vo,
                                    "visual odometry");
     }
   }
@@ -134,7 +156,7 @@ void write_run_outputs(const std::string& out_dir, const RunRecord& r, bool plot
                  {"vo_fallback_frames", r.vo_fallbacks},
                  {"missing_frames", r.missing_frames}};
   eval::write_json_file((dir / "metrics.json").string(), j);
-  write_run_report((dir / "report.html").string(), r, j, slam_evaluation ? &*slam_evaluation : nullptr,
+  write_run_report((dir / "report.html").string(), shown, j, slam_evaluation ? &*slam_evaluation : nullptr,
                    vo_evaluation ? &*vo_evaluation : nullptr);
 
   if (r.interrupted) {

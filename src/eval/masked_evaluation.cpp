@@ -85,13 +85,9 @@ TrajectoryEvaluation evaluate_trajectory_masked(const PoseList& gt, const PoseLi
   }
   if (gt_kept.empty()) throw std::invalid_argument("evaluate_trajectory_masked: no frame has ground truth");
   if (gt_kept.size() == gt.size()) return evaluate_trajectory(gt, est, options);
-  // ATE and RPE over the kept frames (an RPE pair may span a gap: both sides span the same interval)
+  // ATE, RPE and the path length over the kept frames (an RPE pair or a path step may span a gap)
   TrajectoryEvaluation e = evaluate_trajectory(gt_kept, est_kept, options);
   const auto stretches = ground_truth_stretches(mask);
-  e.path_length_m = 0.0;
-  for (const auto& [first, last] : stretches)
-    for (std::size_t i = first + 1; i < last; ++i)
-      e.path_length_m += (gt[i].translation() - gt[i - 1].translation()).norm();
   e.kitti = pooled_kitti(gt, est, stretches, options.kitti_lengths, options.kitti_step_frames);
   e.kitti_short = pooled_kitti(gt, est, stretches, options.kitti_short_lengths, options.kitti_step_frames);
   return e;
