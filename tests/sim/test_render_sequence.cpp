@@ -239,6 +239,48 @@ TEST_F(RenderSequence, NamedCalibrations) {
   EXPECT_EQ(back.height, 200);
   EXPECT_THROW(resolve_calibration((out / "calib.txt").string(), "640by200"), ConfigError);
   EXPECT_THROW(resolve_calibration((out / "missing.txt").string()), InputError);
+  const StereoCalibration euroc = named_kitti_calibration("euroc");
+  EXPECT_EQ(euroc.width, 752);
+  EXPECT_EQ(euroc.height, 480);
+  EXPECT_NEAR(euroc.baseline, 0.110, 1e-12);
+}
+
+// Duplicated frames repeat the previous frame byte for byte (images and pose) on the regular clock; dropped
+// frames leave gaps in times.txt and the poses.
+TEST_F(RenderSequence, DuplicatedAndDroppedFrames) {
+  const fs::path out = test::fresh_temp_dir("render_dup");
+  SequenceRenderOptions o;
+  o.out_dir = (out / "dup").string();
+  o.frames = "0:7";
+  o.duplicate_every = 3;
+  o.calibration = "euroc";
+  o.frame_rate = 20.0;
+  const PoseList trajectory = default_trajectory(20.0);
+  render_kitti_sequence(o);
+  const fs::path seq = out / "dup" / "sequences" / "00";
+  io::KittiOdometryDataset dup(seq.string());
+  ASSERT_EQ(dup.size(), 7u);
+  EXPECT_NEAR(dup.timestamps()[6], 0.30, 1e-9);
+  for (const char* cam : {"image_0", "image_1"}) {
+    EXPECT_TRUE(same_bytes(seq / cam / "000003.png", seq / cam / "000002.png"));
+    EXPECT_TRUE(same_bytes(seq / cam / "000006.png", seq / cam / "000005.png"));
+    EXPECT_FALSE(same_bytes(seq / cam / "000004.png", seq / cam / "000003.png"));
+  }
+  const PoseList dup_poses = *dup.ground_truth();
+  EXPECT_TRUE(dup_poses[3].isApprox(dup_poses[2], 1e-12));
+  EXPECT_FALSE(dup_poses[4].isApprox(dup_poses[3], 1e-6));
+
+  o.out_dir = (out / "drop").string();
+  o.duplicate_every = 0;
+  o.drop_every = 3;
+  render_kitti_sequence(o);
+  io::KittiOdometryDataset drop((out / "drop" / "sequences" / "00").string());
+  ASSERT_EQ(drop.size(), 5u);  // frames 0 1 3 4 6 of 0..6
+  EXPECT_NEAR(drop.timestamps()[2], 0.15, 1e-9);
+  EXPECT_NEAR(drop.timestamps()[4], 0.30, 1e-9);
+  const PoseList expected =
+      relative_to_first_exact({trajectory[0], trajectory[1], trajectory[3], trajectory[4], trajectory[6]});
+  expect_same_poses(*drop.ground_truth(), expected, 1e-6);
 }
 
 }  // namespace
