@@ -62,7 +62,10 @@ ConfigNode ConfigNode::child(const std::string& key) {
 void ConfigNode::finish() const {
   if (node_ && node_.IsMap()) {
     for (const auto& kv : node_) {
-      const std::string key = kv.first.as<std::string>();
+      // A key that is not a scalar (a sequence or mapping used as a key) is never a known setting.
+      if (!kv.first.IsScalar())
+        fail(YAML::Dump(kv.first), "is not a known setting (keys must be plain names)");
+      const std::string key = kv.first.Scalar();
       if (known_.count(key) == 0) fail(key, "is not a known setting (typo?)");
     }
   }

@@ -62,3 +62,18 @@ TEST(ConfigNode, RangeAndChoiceChecks) {
 
 }  // namespace
 }  // namespace glmbslam
+
+namespace glmbslam {
+namespace {
+
+// Found by fuzz_config: a key that is a sequence or a mapping ended the program with a yaml-cpp conversion
+// error instead of the ConfigError naming the key.
+TEST(ConfigNode, NonScalarKeyIsAConfigError) {
+  for (const char* text : {"? [a, b]\n: 1\n", "? {a: 1}\n: 2\n"}) {
+    ConfigNode node = ConfigNode::parse(text, "fuzz.yaml");
+    EXPECT_THROW(node.finish(), ConfigError) << text;
+  }
+}
+
+}  // namespace
+}  // namespace glmbslam
