@@ -34,6 +34,12 @@ YAML::Node load_config_document(const RunOptions& options) {
 }  // namespace
 
 int run_stereo(const RunOptions& options) {
+  if (!options.refine.empty()) {
+    // the RFS-ML refinement (backend/mlslam) solves 2D range-bearing problems only so far
+    throw ConfigError(
+        "--refine " + options.refine +
+        " is available for Victoria Park and glmbslam sim; stereo sequences have no refinement stage yet");
+  }
   const auto dataset = io::open_stereo_dataset(options.dataset, options.format, options.ground_truth);
   YAML::Node root = load_config_document(options);
   if (options.particles) root["rbpf"]["particles"] = *options.particles;

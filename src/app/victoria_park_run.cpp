@@ -335,13 +335,13 @@ int run_victoria_park(const RunOptions& options) {
     backend::GlmbSlam<Motion, Meas> f(motion, model, cfg.rbpf, cfg.initial_pose, cfg.mh);
     rec = run_filter(f, controls, measurements, cfg.rbpf.particles);
   }
+  if ((cfg.algorithm == "mlslam" || options.refine == "ml") && !interrupt_requested())
+    refine_record(motion, model, cfg, controls, measurements, rec);
   if (rec.poses.size() < times.size()) {
     spdlog::warn("Victoria Park: interrupted after {} of {} steps; writing their outputs", rec.poses.size(),
                  times.size());
     times.resize(rec.poses.size());
   }
-  if (cfg.algorithm == "mlslam" || options.refine == "ml")
-    refine_record(motion, model, cfg, controls, measurements, rec);
   write_outputs(options.out_dir, cfg, options, data, filt.fixes, times, rec, filt);
   return 0;
 }
