@@ -54,8 +54,9 @@ void register_run_command(CLI::App& app) {
   cmd->add_option("--frames", *frames, "frame range A:B (B exclusive; default: all frames)");
   cmd->add_option("--particles", *particles, "number of particles (overrides rbpf.particles)");
   cmd->add_option("--seed", *seed, "random seed (overrides rbpf.seed)");
-  cmd->add_option("--refine", options->refine,
-                  "ml: refine the filter's trajectory and map by RFS maximum likelihood (paper 004; Victoria Park)");
+  cmd->add_option(
+      "--refine", options->refine,
+      "ml: refine the filter's trajectory and map by RFS maximum likelihood (paper 004; Victoria Park)");
   cmd->add_option("--algorithm", *algorithm,
                   "stereo: glmb2 (optimal kernel, default), glmb1 (prior proposal), vo (frontend only); "
                   "Victoria Park: see its config");

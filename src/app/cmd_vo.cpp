@@ -9,8 +9,8 @@
 // cannot be loaded (missing, corrupt, wrong size) is reported and replaced by the VO's constant-velocity
 // fallback, so the trajectory keeps one pose per frame; the command fails only if no frame at all can be
 // loaded. The poses are also streamed to vo_trajectory.streaming.txt (one line per frame, synced; removed
-// once the final files are written); SIGINT/SIGTERM stop at the next frame and write the outputs of the frames
-// done ("interrupted": true in metrics.json), then exit with code 130/143 (core/interrupt.hpp).
+// once the final files are written); SIGINT/SIGTERM stop at the next frame and write the outputs of the
+// frames done ("interrupted": true in metrics.json), then exit with code 130/143 (core/interrupt.hpp).
 #include <algorithm>
 #include <filesystem>
 #include <fstream>

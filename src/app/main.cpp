@@ -10,8 +10,8 @@
 #include "core/error.hpp"
 #include "core/interrupt.hpp"
 #include "core/logging.hpp"
-#include "core/progress.hpp"
 #include "core/parallel.hpp"
+#include "core/progress.hpp"
 
 int main(int argc, char** argv) {
   CLI::App app{
@@ -21,8 +21,8 @@ int main(int argc, char** argv) {
   std::string log_level = "info";
   int threads = 0;
   bool quiet = false;
-  auto* log_level_option =
-      app.add_option("--log-level", log_level, "trace, debug, info, warn, error or off")->capture_default_str();
+  auto* log_level_option = app.add_option("--log-level", log_level, "trace, debug, info, warn, error or off")
+                               ->capture_default_str();
   app.add_flag("--quiet", quiet,
                "for scripts: no progress bar and no info lines (log level warn unless --log-level is given); "
                "warnings, errors and the results summary stay");

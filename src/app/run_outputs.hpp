@@ -29,7 +29,7 @@ struct RunRecord {
   PoseList slam_poses;
   PoseList vo_poses;
   std::optional<PoseList> ground_truth;  ///< relative to the first processed frame
-  std::vector<char> ground_truth_mask;    ///< per frame: 1 if ground_truth is measured there (empty: all)
+  std::vector<char> ground_truth_mask;   ///< per frame: 1 if ground_truth is measured there (empty: all)
   std::vector<io::MapPoint> map;
   std::vector<double> frontend_ms, vo_ms, backend_ms;
   std::vector<double> ess_fraction;  ///< ESS / N per step
@@ -38,8 +38,9 @@ struct RunRecord {
   std::vector<bool> resampled;
   std::size_t vo_fallbacks = 0;
   std::size_t missing_frames = 0;
-  bool interrupted = false;          ///< stopped by SIGINT/SIGTERM before the last requested frame
-  std::size_t frames_requested = 0;  ///< frames of the requested range (the record holds fewer if interrupted)
+  bool interrupted = false;  ///< stopped by SIGINT/SIGTERM before the last requested frame
+  std::size_t frames_requested =
+      0;  ///< frames of the requested range (the record holds fewer if interrupted)
   double wall_s = 0.0;
   std::string effective_config;
 };

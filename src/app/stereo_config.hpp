@@ -54,7 +54,8 @@ StereoConfig default_stereo_config();
 /// disparity 30 % of the width capped at 1 m, smallest disparity 4.8 px capped at 80 m), the clutter rate
 /// (measurement.clutter_rate: 10 per 1241×376 image, by area), ORB features (frontend.orb.features: 2000 per
 /// 1241×376, by area) and the selection grid (pipeline.grid_columns / grid_rows: cells of about 124×94 px).
-void apply_camera_defaults(const YAML::Node& root, const StereoCalibration& calibration, StereoConfig& config);
+void apply_camera_defaults(const YAML::Node& root, const StereoCalibration& calibration,
+                           StereoConfig& config);
 
 /// Reads a parsed YAML document (from `origin`, named in messages) over the defaults.
 /// Throws ConfigError naming the key and origin on an unknown key, a wrong type or a value out of range.
