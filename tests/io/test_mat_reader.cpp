@@ -1,6 +1,7 @@
 // MatFile: typed reads with shape/class checks, and write_mat_file round trips.
 #include <fstream>
 #include <functional>
+#include <iterator>
 #include <limits>
 
 #include <gtest/gtest.h>
@@ -85,6 +86,33 @@ TEST(MatReader, RejectsMissingAndNonMatFiles) {
     out << "not a mat file\n";
   }
   EXPECT_THROW(MatFile{text}, InputError);
+}
+
+// Regression (fuzz_mat out-of-memory): a header declaring dims of billions made libmatio allocate tens of
+// gigabytes before reading a byte. The header pass rejects it with a message naming the variable.
+TEST(MatReader, RejectsAHeaderDeclaringMoreDataThanTheFileHolds) {
+  const auto dir = test::fresh_temp_dir("mat_reader");
+  const auto file = dir / "huge_dims.mat";
+  Eigen::MatrixXd row(1, 2);
+  row << -41.7, -41.6;
+  write_mat_file(file, {MatVariable::matrix_variable("La_m", row)});
+  std::string bytes;
+  {
+    std::ifstream in(file, std::ios::binary);
+    bytes.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  // MAT5 dimensions sub-element: miINT32 tag (type 5, 8 bytes), then dims 1 and 2.
+  const std::string dims("\x05\0\0\0\x08\0\0\0\x01\0\0\0\x02\0\0\0", 16);
+  const auto at = bytes.find(dims);
+  ASSERT_NE(at, std::string::npos);
+  bytes[at + 15] = '\x55';  // second dimension 0x55000002 ≈ 1.4e9 columns ≈ 11 GB of doubles
+  {
+    std::ofstream out(file, std::ios::binary | std::ios::trunc);
+    out << bytes;
+  }
+  const std::string message = error_of([&] { MatFile f(file); });
+  EXPECT_NE(message.find("'La_m'"), std::string::npos) << message;
+  EXPECT_NE(message.find("corrupt or truncated"), std::string::npos) << message;
 }
 
 TEST(MatReader, ReadsTheSharedBenchmarkFile) {
