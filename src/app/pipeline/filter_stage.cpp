@@ -63,6 +63,11 @@ const FilterStep& FilterStage::step(const FrameWork& work, const frontend::VoEst
   return step_;
 }
 
+FilterStatus FilterStage::status() const {
+  const auto& report = filter_.last_report();
+  return FilterStatus{report.tracks, report.hypotheses, report.ess, report.resampled};
+}
+
 PoseList FilterStage::trajectory() const {
   const auto path = config_.pipeline.trajectory_estimate == "sample" ? filter_.trajectory()
                                                                      : filter_.estimated_trajectory();

@@ -17,6 +17,14 @@ namespace glmbslam::app {
 
 using StereoFilter = backend::GlmbSlam<backend::Se3Motion, backend::StereoMeasurementModel>;
 
+/// The filter's state after a step, whatever the algorithm (what the pipeline logs and records).
+struct FilterStatus {
+  int tracks = 0;      ///< tracks (labels) held by the best particle
+  int hypotheses = 0;  ///< map hypotheses of the best particle (1 for a single-hypothesis map)
+  double ess = 0.0;    ///< effective sample size after the weight update (before resampling)
+  bool resampled = false;
+};
+
 /// What the filter stage did with one frame.
 struct FilterStep {
   StereoFilter::MeasurementSet Z;  ///< the measurements handed to the backend
@@ -36,6 +44,9 @@ class FilterStage {
 
   const StereoFilter& filter() const { return filter_; }
   const FilterStep& last_step() const { return step_; }
+  /// The pose estimate at the last step (the best particle's).
+  Pose3 pose() const { return filter_.pose(); }
+  FilterStatus status() const;
   /// The estimated trajectory, steps 0..k (pipeline.trajectory_estimate: the sampled poses or the
   /// Rao–Blackwellised estimates of the best particle).
   PoseList trajectory() const;

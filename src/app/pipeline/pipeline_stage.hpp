@@ -17,7 +17,7 @@ struct FrameOutcome {
   const frontend::VoEstimate& vo;           ///< VO motion from frame k−1 and its status
   const Pose3& vo_pose;                     ///< accumulated VO pose T_0k
   const FilterStep* filter_step = nullptr;  ///< Z, control and timing; null when the backend is off
-  const StereoFilter* filter = nullptr;     ///< the filter after its step k; null when the backend is off
+  const FilterStage* filter = nullptr;      ///< the filter after its step k; null when the backend is off
 };
 
 class PipelineStage {

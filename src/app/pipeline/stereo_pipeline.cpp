@@ -43,16 +43,16 @@ void StereoPipeline::run(RunRecord& record, const std::function<bool()>& stop) {
     if (filter_) {
       const FilterStep& step = filter_->step(work, estimate, vo_.odometry(), k);
       record.backend_ms.push_back(step.ms);
-      const auto& report = filter_->filter().last_report();
-      record.tracks.push_back(report.tracks);
+      const FilterStatus status = filter_->status();
+      record.tracks.push_back(status.tracks);
       if (k > 0) {
-        record.ess_fraction.push_back(report.ess / static_cast<double>(config_.rbpf.particles));
-        record.resampled.push_back(report.resampled);
+        record.ess_fraction.push_back(status.ess / static_cast<double>(config_.rbpf.particles));
+        record.resampled.push_back(status.resampled);
       }
       outcome.filter_step = &step;
-      outcome.filter = &filter_->filter();
+      outcome.filter = &*filter_;
       progress.update(
-          k + 1, "tracks " + std::to_string(report.tracks) + " hyp " + std::to_string(report.hypotheses));
+          k + 1, "tracks " + std::to_string(status.tracks) + " hyp " + std::to_string(status.hypotheses));
     } else {
       progress.update(k + 1);
     }
