@@ -8,6 +8,8 @@
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
 
+#include "backend/mlslam/mlslam_config.hpp"
+#include "backend/mlslam/smooth_detection.hpp"
 #include "core/lie.hpp"
 
 namespace glmbslam::backend {
@@ -104,6 +106,36 @@ class WeightedMeasurementFactor
   const Model& model_;
   typename Model::Measurement z_;
   typename Model::MeasurementCovariance W_;
+};
+
+/// The 2D parts of RfsMlSlam (rfs_ml_slam.hpp): (x, y, θ) poses are their own Ceres blocks on
+/// Pose2CeresManifold, the motion factor by numeric derivatives, the measurement factor analytic, p_D smooth
+/// in range and bearing; the default birth and merge distances are multiples of σ_r.
+template <class Motion, class Model>
+struct PlanarMlSlamParts {
+  using Pose = typename Model::Pose;
+  using Detection = SmoothDetection2D;
+  using Manifold = Pose2CeresManifold;
+  static constexpr int kBlockSize = 3;
+  static Detection detection(const Model& model, const MlSlamConfig& c) {
+    return Detection(model, c.border_range_m, c.border_bearing_rad);
+  }
+  static double length_scale(const Model& model) { return std::sqrt(model.noise()(0, 0)); }
+  static void to_block(const Pose& x, double* block) { Eigen::Map<Eigen::Vector3d>{block} = x; }
+  static Pose from_block(const double* block) {
+    Pose x = Eigen::Map<const Eigen::Vector3d>(block);
+    x(2) = wrap_angle(x(2));
+    return x;
+  }
+  static ceres::CostFunction* motion_factor(const Motion& motion, const typename Motion::Control& u,
+                                            const typename Motion::Covariance& W) {
+    return make_motion_factor(motion, u, W);
+  }
+  static ceres::CostFunction* measurement_factor(const Model& model, const typename Model::Measurement& z,
+                                                 const typename Model::MeasurementCovariance& W,
+                                                 double beta) {
+    return new WeightedMeasurementFactor<Model>(model, z, W, beta);
+  }
 };
 
 }  // namespace glmbslam::backend

@@ -13,6 +13,7 @@ void load_mlslam_config(ConfigNode node, MlSlamConfig& c) {
   node.read_in_range("min_responsibility", c.min_responsibility, 0.0, 1.0);
   node.read_in_range("border_range_m", c.border_range_m, -1.0, 1e6);
   node.read_in_range("border_bearing_rad", c.border_bearing_rad, -1.0, 10.0);
+  node.read_in_range("border_pixels", c.border_pixels, -1.0, 1e4);
   node.read("cardinality_moves", c.cardinality_moves);
   node.read_in_range("birth_responsibility", c.birth_responsibility, 0.0, 1.0);
   node.read_in_range("birth_radius_m", c.birth_radius_m, -1.0, 1e6);

@@ -23,6 +23,9 @@ struct MlSlamConfig {
   /// these widths; ≤ 0 = the sensor's noise std (σ_r, σ_b).
   double border_range_m = 0.0;
   double border_bearing_rad = 0.0;
+  /// Stereo: width (px) of the logistic at the image borders; ≤ 0 = the pixel σ. (border_range_m is the
+  /// width in depth there; ≤ 0 = 2 % of the maximum depth.)
+  double border_pixels = 0.0;
   bool cardinality_moves = true;      ///< births, deaths and merges between EM rounds (kept if l rises)
   double birth_responsibility = 0.5;  ///< a measurement is unexplained when its clutter responsibility ≥ this
   /// Unexplained measurements closer than this form one birth candidate; ≤ 0 = 10 σ_r.

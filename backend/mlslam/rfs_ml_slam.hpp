@@ -1,5 +1,5 @@
 #pragma once
-// RFS maximum-likelihood SLAM (paper 004) for 2D range-bearing models, solved as in digest 3.5 option B:
+// RFS maximum-likelihood SLAM (paper 004), solved as in digest 3.5 option B:
 // maximise the log-likelihood of Eq. 8,
 //   l(x_{1:k}, M) = Σ_{i=1}^k log g(x_i | x_{i−1}, u_i) + Σ_{i=0}^k log p(Z_i | x_i, M)      (Eq. 6–8)
 // over the trajectory (x_0 held) and the landmark set M, associations summed out (Eq. 7,
@@ -12,6 +12,10 @@
 // and cardinality moves between rounds (births from unexplained measurements, deaths of landmarks detected
 // far less often than p_D predicts, merges of close landmarks), each kept only if l rises (evaluated on the
 // scans that see the landmark). A step that lowers l is undone and the solve stops.
+//
+// The model-specific parts (pose blocks and their Ceres manifold, factors, smooth p_D) come from `Parts`:
+// PlanarMlSlamParts (ceres_factors_2d.hpp, 2D range-bearing) or StereoMlSlamParts (stereo_ml_slam.hpp, SE(3)
+// poses and (u_L, v, u_R) measurements).
 //
 // association = "nearest_neighbour" is the vector ML baseline (Eq. 4): every measurement is assigned to the
 // nearest landmark (Mahalanobis, within the gate), unassigned measurements become landmarks, and the
@@ -44,7 +48,7 @@ struct MlSlamReport {
   double ms = 0.0;
 };
 
-template <class Motion, class Model>
+template <class Motion, class Model, class Parts = PlanarMlSlamParts<Motion, Model>>
 class RfsMlSlam {
  public:
   using Pose = typename Model::Pose;
@@ -58,14 +62,11 @@ class RfsMlSlam {
 
   /// Throws ConfigError on an invalid config.
   RfsMlSlam(const Motion& motion, const Model& model, const MlSlamConfig& config)
-      : motion_(motion),
-        model_(model),
-        config_(config),
-        p_D_(model, config.border_range_m, config.border_bearing_rad) {
+      : motion_(motion), model_(model), config_(config), p_D_(Parts::detection(model, config)) {
     validate_mlslam_config(config_);
-    const double sigma_r = std::sqrt(model.noise()(0, 0));
-    if (config_.birth_radius_m <= 0.0) config_.birth_radius_m = 10.0 * sigma_r;
-    if (config_.merge_distance_m <= 0.0) config_.merge_distance_m = 10.0 * sigma_r;
+    const double scale = Parts::length_scale(model);
+    if (config_.birth_radius_m <= 0.0) config_.birth_radius_m = 10.0 * scale;
+    if (config_.merge_distance_m <= 0.0) config_.merge_distance_m = 10.0 * scale;
   }
 
   /// Refines `poses` (x_0..x_K; x_0 held) and `map` in place. controls[k] drives x_{k−1} to x_k (controls[0]
@@ -157,7 +158,7 @@ class RfsMlSlam {
     return evaluate_scan(model_, p_D_, x, map, Z, o).log_likelihood;
   }
 
-  const SmoothDetection2D& detection() const { return p_D_; }
+  const typename Parts::Detection& detection() const { return p_D_; }
 
  private:
   /// Per-scan E-step result: the candidate landmarks (map indices) and their association.
@@ -233,7 +234,7 @@ class RfsMlSlam {
       s.log_likelihood += s.motion_ll[i] + s.scans[i].association.log_likelihood;
   }
 
-  Eigen::Vector3d whitened_motion(const Pose& prev, const Pose& cur, const Control& u) const {
+  typename Motion::Tangent whitened_motion(const Pose& prev, const Pose& cur, const Control& u) const {
     return whitening(motion_.process_noise(prev, u)) * Motion::local(cur, motion_.predict(prev, u));
   }
 
@@ -291,10 +292,14 @@ class RfsMlSlam {
     ceres::Problem::Options po;
     po.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
     ceres::Problem problem(po);
+    constexpr int B = Parts::kBlockSize;
+    std::vector<double> blocks(K * B);
+    auto block = [&](std::size_t i) { return blocks.data() + i * B; };
+    for (std::size_t i = 0; i < K; ++i) Parts::to_block(s.poses[i], block(i));
     for (std::size_t i = 1; i < K; ++i) {
       const auto W = whitening(motion_.process_noise(s.poses[i - 1], controls[i]));
-      problem.AddResidualBlock(make_motion_factor(motion_, controls[i], W), nullptr, s.poses[i - 1].data(),
-                               s.poses[i].data());
+      problem.AddResidualBlock(Parts::motion_factor(motion_, controls[i], W), nullptr, block(i - 1),
+                               block(i));
     }
     const auto W_R = whitening(model_.noise());
     for (std::size_t i = 0; i < K; ++i) {
@@ -302,17 +307,17 @@ class RfsMlSlam {
       for (const auto& b : ss.association.betas) {
         if (b.beta < config_.min_responsibility) continue;
         Landmark& m = s.map[static_cast<std::size_t>(ss.candidates[static_cast<std::size_t>(b.landmark)])];
-        problem.AddResidualBlock(new WeightedMeasurementFactor<Model>(
-                                     model_, scans[i][static_cast<std::size_t>(b.measurement)], W_R, b.beta),
-                                 nullptr, s.poses[i].data(), m.data());
+        problem.AddResidualBlock(
+            Parts::measurement_factor(model_, scans[i][static_cast<std::size_t>(b.measurement)], W_R, b.beta),
+            nullptr, block(i), m.data());
       }
     }
     for (std::size_t i = 0; i < K; ++i) {
-      if (!problem.HasParameterBlock(s.poses[i].data())) continue;
-      problem.SetManifold(s.poses[i].data(), &manifold_);
+      if (!problem.HasParameterBlock(block(i))) continue;
+      problem.SetManifold(block(i), &manifold_);
     }
-    if (!problem.HasParameterBlock(s.poses[0].data())) return;
-    problem.SetParameterBlockConstant(s.poses[0].data());
+    if (!problem.HasParameterBlock(block(0))) return;
+    problem.SetParameterBlockConstant(block(0));
     ceres::Solver::Options so;
     so.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
     so.max_num_iterations = config_.solver_iterations;
@@ -320,7 +325,7 @@ class RfsMlSlam {
     so.logging_type = ceres::SILENT;
     ceres::Solver::Summary summary;
     ceres::Solve(so, &problem, &summary);
-    for (auto& x : s.poses) x(2) = wrap_angle(x(2));
+    for (std::size_t i = 1; i < K; ++i) s.poses[i] = Parts::from_block(block(i));
   }
 
   /// next ← midway between `from` and `next` (poses in the tangent space; same landmark list).
@@ -502,8 +507,8 @@ class RfsMlSlam {
   Motion motion_;
   Model model_;
   MlSlamConfig config_;
-  SmoothDetection2D p_D_;
-  mutable Pose2CeresManifold manifold_;
+  typename Parts::Detection p_D_;
+  mutable typename Parts::Manifold manifold_;
 };
 
 }  // namespace glmbslam::backend

@@ -18,7 +18,6 @@
 
 #include <Eigen/Core>
 
-#include "backend/mlslam/smooth_detection.hpp"
 #include "backend/rbpf/murty.hpp"
 #include "core/gaussian.hpp"
 #include "core/log_math.hpp"
@@ -64,9 +63,10 @@ class BlockPartition {
 };
 
 /// log p(Z | x, M) of Eq. 7 and the β of the gated pairs, for the candidate landmarks `M` (those possibly in
-/// view; landmarks with p_D = 0 contribute nothing and may be left out).
-template <class Model, class LandmarkList, class MeasurementList>
-ScanAssociation evaluate_scan(const Model& model, const SmoothDetection2D& p_D, const typename Model::Pose& x,
+/// view; landmarks with p_D = 0 contribute nothing and may be left out). `p_D(model, x, m, ẑ)` is the
+/// detection probability (SmoothDetection2D, SmoothStereoDetection).
+template <class Model, class Detection, class LandmarkList, class MeasurementList>
+ScanAssociation evaluate_scan(const Model& model, const Detection& p_D, const typename Model::Pose& x,
                               const LandmarkList& M, const MeasurementList& Z,
                               const ScanLikelihoodOptions& options) {
   const std::size_t P = M.size(), J = Z.size();

@@ -65,6 +65,8 @@ class StereoMeasurementModel {
   }
   const StereoMeasurementConfig& config() const { return config_; }
   const StereoCamera& camera() const { return camera_; }
+  double image_width() const { return width_; }
+  double image_height() const { return height_; }
 
   Measurement predict(const Pose& x, const Landmark& m) const { return camera_.project_from_pose(x, m); }
 

@@ -1,0 +1,114 @@
+#pragma once
+// Ceres factors of the stereo M-step (digest 3.5 option B): SE(3) pose blocks, the relative-pose (VO control)
+// factor W (x_i ⊖ x_{i−1} u_i) (paper 004 Eq. 2 with the SE(3) motion of backend/models/se3_motion.hpp) and
+// the responsibility-weighted stereo measurement factor √β R^{-1/2} (z − π(x⁻¹ m)) (Eq. 3 weighted by the
+// E-step's β; the projection of core/stereo_camera.hpp). Automatic derivatives through the quaternion.
+//
+// Pose block (7 doubles): the unit quaternion of R_wc in Eigen's order (x, y, z, w), then t_wc; its manifold
+// is Ceres' EigenQuaternionManifold × EuclideanManifold<3>.
+#include <cmath>
+
+#include <ceres/autodiff_cost_function.h>
+#include <ceres/manifold.h>
+#include <ceres/product_manifold.h>
+#include <ceres/rotation.h>
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include "core/stereo_camera.hpp"
+#include "core/types.hpp"
+
+namespace glmbslam::backend {
+
+constexpr int kPose3BlockSize = 7;
+using Pose3CeresManifold =
+    ceres::ProductManifold<ceres::EigenQuaternionManifold, ceres::EuclideanManifold<3>>;
+
+inline void pose3_to_block(const Pose3& T, double* block) {
+  Eigen::Map<Eigen::Quaterniond>{block} = Eigen::Quaterniond(T.linear()).normalized();
+  Eigen::Map<Eigen::Vector3d>{block + 4} = T.translation();
+}
+
+inline Pose3 pose3_from_block(const double* block) {
+  Pose3 T = Pose3::Identity();
+  T.linear() = Eigen::Map<const Eigen::Quaterniond>(block).normalized().toRotationMatrix();
+  T.translation() = Eigen::Map<const Eigen::Vector3d>(block + 4);
+  return T;
+}
+
+/// ξ = Log(T) = (ρ, φ) of core/lie.hpp (se3_log) for T = (q, t): φ from the quaternion, ρ = V(φ)⁻¹ t with
+/// V⁻¹ = I − ½[φ]× + c [φ]×², c = (1 − θ/(2 tan(θ/2))) / θ² (series below θ² = 1e-6).
+template <typename T>
+Eigen::Matrix<T, 6, 1> se3_log_of(const Eigen::Quaternion<T>& q, const Eigen::Matrix<T, 3, 1>& t) {
+  const T wxyz[4] = {q.w(), q.x(), q.y(), q.z()};
+  Eigen::Matrix<T, 3, 1> phi;
+  ceres::QuaternionToAngleAxis(wxyz, phi.data());
+  const T theta2 = phi.squaredNorm();
+  T c;
+  if (theta2 < T(1e-6)) {
+    c = T(1.0 / 12.0) + theta2 / T(720.0);
+  } else {
+    const T theta = sqrt(theta2);
+    c = (T(1.0) - theta / (T(2.0) * tan(theta / T(2.0)))) / theta2;
+  }
+  const Eigen::Matrix<T, 3, 1> pxt = phi.cross(t);
+  Eigen::Matrix<T, 6, 1> xi;
+  xi.template head<3>() = t - T(0.5) * pxt + c * phi.cross(pxt);
+  xi.template tail<3>() = phi;
+  return xi;
+}
+
+/// r = W Log((x_{i−1} u)⁻¹ x_i) = W (x_i ⊖ f(x_{i−1}, u)), the whitened SE(3) motion residual.
+struct RelativePoseResidual {
+  Eigen::Quaterniond q_u;
+  Eigen::Vector3d t_u;
+  Matrix6d W;
+  template <typename T>
+  bool operator()(const T* prev, const T* cur, T* residual) const {
+    const Eigen::Map<const Eigen::Quaternion<T>> q_a(prev), q_b(cur);
+    const Eigen::Map<const Eigen::Matrix<T, 3, 1>> t_a(prev + 4), t_b(cur + 4);
+    const Eigen::Quaternion<T> q_pred = q_a * q_u.cast<T>();
+    const Eigen::Matrix<T, 3, 1> t_pred = t_a + q_a * t_u.cast<T>();
+    const Eigen::Quaternion<T> q_inv = q_pred.conjugate();
+    const Eigen::Quaternion<T> q_err = q_inv * q_b;
+    const Eigen::Matrix<T, 3, 1> t_err = q_inv * (t_b - t_pred);
+    Eigen::Map<Eigen::Matrix<T, 6, 1>> r(residual);
+    r = W.cast<T>() * se3_log_of(q_err, t_err);
+    return true;
+  }
+};
+
+/// The motion factor of one VO control: relative pose u (T_{i−1,i}) and whitening W (Wᵀ W = Q⁻¹).
+inline ceres::CostFunction* make_relative_pose_factor(const Pose3& u, const Matrix6d& W) {
+  return new ceres::AutoDiffCostFunction<RelativePoseResidual, 6, kPose3BlockSize, kPose3BlockSize>(
+      new RelativePoseResidual{Eigen::Quaterniond(u.linear()).normalized(), u.translation(), W});
+}
+
+/// r = W (z − π(x⁻¹ m)) with W = √β R^{-1/2}; z = (u_L, v, u_R).
+struct StereoProjectionResidual {
+  StereoCamera camera;
+  Eigen::Vector3d z;
+  Eigen::Matrix3d W;
+  template <typename T>
+  bool operator()(const T* pose, const T* landmark, T* residual) const {
+    const Eigen::Map<const Eigen::Quaternion<T>> q(pose);
+    const Eigen::Map<const Eigen::Matrix<T, 3, 1>> t(pose + 4), m(landmark);
+    const Eigen::Matrix<T, 3, 1> p = q.conjugate() * (m - t);
+    const T iz = T(1.0) / p.z();
+    Eigen::Matrix<T, 3, 1> zhat;
+    zhat << T(camera.fx) * p.x() * iz + T(camera.cx), T(camera.fy) * p.y() * iz + T(camera.cy),
+        T(camera.fx) * (p.x() - T(camera.baseline)) * iz + T(camera.cx);
+    Eigen::Map<Eigen::Matrix<T, 3, 1>> r(residual);
+    r = W.cast<T>() * (z.cast<T>() - zhat);
+    return true;
+  }
+};
+
+inline ceres::CostFunction* make_stereo_measurement_factor(const StereoCamera& camera,
+                                                           const Eigen::Vector3d& z, const Eigen::Matrix3d& W,
+                                                           double beta) {
+  return new ceres::AutoDiffCostFunction<StereoProjectionResidual, 3, kPose3BlockSize, 3>(
+      new StereoProjectionResidual{camera, z, std::sqrt(beta) * W});
+}
+
+}  // namespace glmbslam::backend

@@ -1,0 +1,54 @@
+#pragma once
+// The stereo counterpart of smooth_detection.hpp (digest 3.5, pitfalls: a hard field-of-view border makes the
+// likelihood of paper 004 Eq. 7 jump): with p = x⁻¹ m in the left camera and z = (u_L, v, u_R) = π(p),
+//   p_D(m | x) = p_D,in · σ((d − d_min)/w_d) σ((d_max − d)/w_d) · Π_{image borders} σ(distance to border /
+//   w_px)
+// with σ the logistic function, d = p_z the depth, the borders u_L ∈ [b, W − b], v ∈ [b, H − b], u_R ≥ b.
+// At the border p_D is half its inside value.
+#include <algorithm>
+#include <cmath>
+
+#include "backend/models/stereo_measurement_model.hpp"
+
+namespace glmbslam::backend {
+
+class SmoothStereoDetection {
+ public:
+  /// width_depth ≤ 0: 2 % of the maximum depth; width_pixels ≤ 0: the pixel σ.
+  SmoothStereoDetection(const StereoMeasurementModel& model, double width_depth, double width_pixels)
+      : config_(model.config()),
+        w_d_(width_depth > 0.0 ? width_depth : 0.02 * model.config().max_depth),
+        w_px_(width_pixels > 0.0 ? width_pixels : model.config().pixel_sigma) {
+    // a point in view lies within depth · √(1 + (u/f_x)² + (v/f_y)²) of the camera centre
+    const StereoCamera& c = model.camera();
+    const double u = std::max(c.cx, model.image_width() - c.cx) / c.fx;
+    const double v = std::max(c.cy, model.image_height() - c.cy) / c.fy;
+    radius_ = (config_.max_depth + 14.0 * w_d_) * std::sqrt(1.0 + u * u + v * v);
+  }
+
+  double operator()(const StereoMeasurementModel& model, const Pose3& x, const Eigen::Vector3d& m,
+                    const Eigen::Vector3d& z) const {
+    const double depth = (x.linear().transpose() * (m - x.translation())).z();
+    if (!(depth > 0.0) || config_.p_detect_inside <= 0.0) return 0.0;
+    const double b = config_.border;
+    const double W = model.image_width(), H = model.image_height();
+    const double t =
+        std::min({(depth - config_.min_depth) / w_d_, (config_.max_depth - depth) / w_d_, (z(0) - b) / w_px_,
+                  (W - b - z(0)) / w_px_, (z(1) - b) / w_px_, (H - b - z(1)) / w_px_, (z(2) - b) / w_px_});
+    if (t < -30.0) return 0.0;  // far outside: p_D < 1e-13
+    return config_.p_detect_inside * logistic((depth - config_.min_depth) / w_d_) *
+           logistic((config_.max_depth - depth) / w_d_) * logistic((z(0) - b) / w_px_) *
+           logistic((W - b - z(0)) / w_px_) * logistic((z(1) - b) / w_px_) *
+           logistic((H - b - z(1)) / w_px_) * logistic((z(2) - b) / w_px_);
+  }
+
+  /// Landmarks farther than this from the camera centre have p_D < 1e-6·p_D,in (never candidates).
+  double query_radius() const { return radius_; }
+
+ private:
+  static double logistic(double t) { return 1.0 / (1.0 + std::exp(-t)); }
+  StereoMeasurementConfig config_;
+  double w_d_, w_px_, radius_ = 0.0;
+};
+
+}  // namespace glmbslam::backend
