@@ -58,7 +58,8 @@ void register_run_command(CLI::App& app) {
       "--refine", options->refine,
       "ml: refine the filter's trajectory and map by RFS maximum likelihood (paper 004; Victoria Park)");
   cmd->add_option("--algorithm", *algorithm,
-                  "stereo: glmb2 (optimal kernel, default), glmb1 (prior proposal), vo (frontend only); "
+                  "stereo: glmb2 (optimal kernel, default), glmb1 (prior proposal), lmb / lmb1 (LMB-SLAM, "
+                  "optimal / prior proposal), vo (frontend only); "
                   "Victoria Park: see its config");
   cmd->callback([=] {
     RunOptions o = *options;

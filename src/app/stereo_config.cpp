@@ -46,7 +46,7 @@ void load_pipeline(ConfigNode node, PipelineSettings& c) {
   node.read("control_excludes_selected", c.control_excludes_selected);
   node.read("overlap_frontend", c.overlap_frontend);
   node.read("write_plots", c.write_plots);
-  node.read_choice("algorithm", c.algorithm, {"glmb2", "glmb1", "vo"});
+  node.read_choice("algorithm", c.algorithm, {"glmb2", "glmb1", "lmb", "lmb1", "vo"});
   node.read_choice("trajectory_estimate", c.trajectory_estimate, {"proposal_mean", "sample"});
   node.finish();
 }
@@ -119,7 +119,9 @@ StereoConfig parse_stereo_config(const YAML::Node& root, const std::string& orig
   load_measurement(node.child("measurement"), c.measurement);
   load_association(node.child("association"), c.measurement);
   backend::load_rbpf_config(node.child("rbpf"), c.rbpf);
+  if (node.has("lmb")) backend::load_lmb_config(node.child("lmb"), c.lmb);
   load_pipeline(node.child("pipeline"), c.pipeline);
+  if (node.has("refine")) load_refine_config(node.child("refine"), c.refine);
   node.finish();
   return c;
 }

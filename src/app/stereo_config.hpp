@@ -5,12 +5,16 @@
 //   measurement: stereo measurement model (backend/models/stereo_measurement_model.hpp)
 //   association: optional descriptor term of the landmark likelihood (same model; StereoMeasurementConfig)
 //   rbpf:        particle filter and δ-GLMB map update (backend/rbpf/rbpf_config.hpp; child `glmb`)
+//   lmb:         LMB-SLAM's labelled multi-Bernoulli map (algorithm lmb, lmb1; backend/lmb/lmb_config.hpp)
 //   pipeline:    what this file declares below.
+//   refine:      RFS maximum-likelihood refinement of the filter (--refine ml; app/refine_config.hpp)
 // Every key has a default in code; config/kitti*.yaml document them. Unknown keys are errors.
 #include <string>
 
 #include <yaml-cpp/yaml.h>
 
+#include "backend/lmb/lmb_config.hpp"
+#include "app/refine_config.hpp"
 #include "backend/models/se3_motion.hpp"
 #include "backend/models/stereo_measurement_model.hpp"
 #include "backend/rbpf/rbpf_config.hpp"
@@ -30,9 +34,11 @@ struct PipelineSettings {
   /// The backend's control u_k, Q_k from the VO points that are not among its measurements (no double
   /// counting)
   bool control_excludes_selected = true;
-  bool overlap_frontend = true;     ///< run the frontend of frame k+1 while the backend processes frame k
-  bool write_plots = true;          ///< PNG plots next to metrics.json
-  std::string algorithm = "glmb2";  ///< glmb2 (optimal proposal), glmb1 (prior proposal) or vo (no backend)
+  bool overlap_frontend = true;  ///< run the frontend of frame k+1 while the backend processes frame k
+  bool write_plots = true;       ///< PNG plots next to metrics.json
+  /// glmb2 / glmb1: δ-GLMB-SLAM with the optimal / prior proposal; lmb / lmb1: LMB-SLAM with the optimal /
+  /// prior proposal; vo: no backend
+  std::string algorithm = "glmb2";
   /// trajectory.txt holds the best particle's "proposal_mean" (Rao–Blackwellised estimate) or "sample" poses.
   std::string trajectory_estimate = "proposal_mean";
 };
@@ -42,7 +48,9 @@ struct StereoConfig {
   backend::Se3MotionConfig motion;
   backend::StereoMeasurementConfig measurement;
   backend::RbpfConfig rbpf;
+  backend::LmbConfig lmb;
   PipelineSettings pipeline;
+  RefineSettings refine;
 };
 
 /// Defaults for the stereo pipeline (KITTI, paper 000's 20 m range, 10 particles).

@@ -1,11 +1,13 @@
 // `glmbslam run` on a stereo sequence (KITTI odometry or raw): reads the configuration, runs the stereo
-// pipeline (pipeline/stereo_pipeline.hpp: reader + frontend → VO → δ-GLMB-SLAM 2.0 filter → later stages) and
-// writes trajectory.txt, vo_trajectory.txt, map.pcd, metrics.json, plots and the effective config.
+// pipeline (pipeline/stereo_pipeline.hpp: reader + frontend → VO → δ-GLMB-SLAM 2.0 filter → later stages:
+// the RFS-ML refinement with --refine ml) and writes trajectory.txt, vo_trajectory.txt, map.pcd, metrics.json,
+// plots and the effective config (with --refine ml also trajectory_refined.txt and map_refined.pcd).
 #include <sstream>
 
 #include <spdlog/spdlog.h>
 #include <yaml-cpp/yaml.h>
 
+#include "app/pipeline/refinement_stage.hpp"
 #include "app/pipeline/stereo_pipeline.hpp"
 #include "app/pipeline/trajectory_stream_stage.hpp"
 #include "app/run_options.hpp"
@@ -34,24 +36,27 @@ YAML::Node load_config_document(const RunOptions& options) {
 }  // namespace
 
 int run_stereo(const RunOptions& options) {
-  if (!options.refine.empty()) {
-    // the RFS-ML refinement (backend/mlslam) solves 2D range-bearing problems only so far
-    throw ConfigError(
-        "--refine " + options.refine +
-        " is available for Victoria Park and glmbslam sim; stereo sequences have no refinement stage yet");
-  }
+  if (!options.refine.empty() && options.refine != "ml")
+    throw ConfigError("--refine must be ml, got '" + options.refine + "'");
   const auto dataset = io::open_stereo_dataset(options.dataset, options.format, options.ground_truth);
   YAML::Node root = load_config_document(options);
   if (options.particles) root["rbpf"]["particles"] = *options.particles;
   if (options.seed) root["rbpf"]["seed"] = *options.seed;
   if (options.algorithm) root["pipeline"]["algorithm"] = *options.algorithm;
+  if (options.refine == "ml") root["refine"]["enabled"] = true;
   const std::string origin =
       options.config_file.empty() ? std::string("built-in defaults") : options.config_file;
   StereoConfig config = parse_stereo_config(root, origin);
+  if (config.refine.enabled && config.pipeline.algorithm == "vo") {
+    throw ConfigError(origin +
+                      ": --refine ml (refine.enabled) refines a filter's estimate, and algorithm vo runs no "
+                      "filter; choose another algorithm or leave the refinement off");
+  }
   if (config.pipeline.max_measurements > 4096) {
     throw ConfigError(origin + ": key 'pipeline.max_measurements' must be at most 4096");
   }
-  config.rbpf.proposal = config.pipeline.algorithm == "glmb1" ? "prior" : "optimal";
+  const std::string& algorithm = config.pipeline.algorithm;
+  config.rbpf.proposal = algorithm == "glmb1" || algorithm == "lmb1" ? "prior" : "optimal";
 
   const std::size_t first = options.first_frame;
   const std::size_t last = options.last_frame == 0 ? dataset->size() : options.last_frame;
@@ -76,6 +81,7 @@ int run_stereo(const RunOptions& options) {
   apply_camera_defaults(root, calibration, config);  // keys the config leaves out follow from the rig
   StereoPipeline pipeline(*dataset, calibration, config, first, last);
   pipeline.add_stage(std::make_unique<TrajectoryStreamStage>(options.out_dir));
+  if (config.refine.enabled) pipeline.add_stage(std::make_unique<RefinementStage>(config, calibration));
   RunRecord record;
   set_graceful_interrupts(true);  // SIGINT/SIGTERM: stop at the next frame boundary and write what we have
   pipeline.run(record, [] { return interrupt_requested(); });

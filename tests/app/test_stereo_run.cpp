@@ -16,7 +16,7 @@
 #include "core/progress.hpp"
 #include "io/pcd_writer.hpp"
 #include "io/trajectory_io.hpp"
-#include "sim/kitti_sequence_writer.hpp"
+#include "support/rendered_clip.hpp"
 #include "support/test_data.hpp"
 
 namespace glmbslam::app {
@@ -24,33 +24,18 @@ namespace {
 
 namespace fs = std::filesystem;
 
-constexpr std::size_t kFrames = 40;
+constexpr std::size_t kFrames = test::kClipFrames;
 
 /// One short rendered sequence (built-in trajectory, with depth) shared by the tests of this file.
 class StereoRun : public ::testing::Test {
  protected:
-  // ctest runs each test in its own process, possibly concurrently: the clip is rendered once into a shared
-  // cache folder (render into a private folder, then rename, so no process sees a half-written clip), and
-  // every process writes its outputs under its own folder.
+  // every process writes its outputs under its own folder
   static void SetUpTestSuite() {
     ProgressReporter::set_enabled(false);
-    clip_ = fs::temp_directory_path() / "glmbslam_test_stereo_clip_v1";
+    clip_ = test::rendered_stereo_clip();
     root_ = fs::temp_directory_path() / ("glmbslam_test_stereo_run_" + std::to_string(::getpid()));
     fs::remove_all(root_);
     fs::create_directories(root_);
-    if (!fs::exists(clip_ / "poses" / "00.txt")) {
-      const fs::path mine =
-          fs::temp_directory_path() / ("glmbslam_test_stereo_clip_" + std::to_string(::getpid()));
-      fs::remove_all(mine);
-      sim::SequenceRenderOptions o;
-      o.out_dir = mine.string();
-      o.frames = "0:" + std::to_string(kFrames);
-      o.depth = true;
-      sim::render_kitti_sequence(o);
-      std::error_code ec;
-      fs::rename(mine, clip_, ec);  // fails if another process got there first: use theirs
-      if (ec) fs::remove_all(mine);
-    }
   }
   static void TearDownTestSuite() { fs::remove_all(root_); }
   static fs::path sequence() { return clip_ / "sequences" / "00"; }

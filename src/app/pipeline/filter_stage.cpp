@@ -1,10 +1,78 @@
 #include "app/pipeline/filter_stage.hpp"
 
 #include <algorithm>
+#include <memory>
+#include <string>
+#include <utility>
 
+#include "backend/lmb/lmb_slam.hpp"
+#include "backend/rbpf/glmb_slam.hpp"
 #include "core/stopwatch.hpp"
 
 namespace glmbslam::app {
+
+/// The stage's view of its particle filter: the calls the stage makes, whatever the algorithm.
+class StereoBackend {
+ public:
+  virtual ~StereoBackend() = default;
+  virtual void initial_scan(const StereoMeasurementSet& Z) = 0;
+  virtual void step(const backend::RelativePoseControl& u, const StereoMeasurementSet& Z) = 0;
+  virtual Pose3 pose() const = 0;
+  virtual FilterStatus status() const = 0;
+  /// The best particle's sampled poses (`sampled`) or its proposal means, steps 0..k.
+  virtual PoseList trajectory(bool sampled) const = 0;
+  virtual std::vector<io::MapPoint> map_points() const = 0;
+};
+
+namespace {
+
+using backend::Se3Motion;
+using backend::StereoMeasurementModel;
+
+/// δ-GLMB-SLAM (glmb2, glmb1) or LMB-SLAM (lmb, lmb1) behind StereoBackend.
+template <class Filter>
+class FilterBackend final : public StereoBackend {
+ public:
+  template <class... Args>
+  explicit FilterBackend(Args&&... args) : filter_(std::forward<Args>(args)...) {}
+  void initial_scan(const StereoMeasurementSet& Z) override { filter_.initial_scan(Z); }
+  void step(const backend::RelativePoseControl& u, const StereoMeasurementSet& Z) override {
+    filter_.step(u, Z);
+  }
+  Pose3 pose() const override { return filter_.pose(); }
+  FilterStatus status() const override {
+    const auto& report = filter_.last_report();
+    return FilterStatus{report.tracks, hypotheses(report), report.ess, report.resampled};
+  }
+  PoseList trajectory(bool sampled) const override {
+    const auto path = sampled ? filter_.trajectory() : filter_.estimated_trajectory();
+    return PoseList(path.begin(), path.end());
+  }
+  std::vector<io::MapPoint> map_points() const override {
+    std::vector<io::MapPoint> points;
+    for (const auto& lm : filter_.landmarks())
+      points.push_back(io::MapPoint{lm.mean, pack_label(lm.label), std::clamp(lm.existence, 0.0, 1.0)});
+    return points;
+  }
+
+ private:
+  static int hypotheses(const backend::StepReport& report) { return report.hypotheses; }
+  static int hypotheses(const backend::LmbStepReport&) { return 1; }  // one LMB per particle
+  Filter filter_;
+};
+
+std::unique_ptr<StereoBackend> make_backend(const StereoConfig& config, const Se3Motion& motion,
+                                            const StereoMeasurementModel& model) {
+  const std::string& algorithm = config.pipeline.algorithm;
+  if (algorithm == "lmb" || algorithm == "lmb1") {
+    return std::make_unique<FilterBackend<backend::LmbSlam<Se3Motion, StereoMeasurementModel>>>(
+        motion, model, config.rbpf, config.lmb, Pose3::Identity());
+  }
+  return std::make_unique<FilterBackend<backend::GlmbSlam<Se3Motion, StereoMeasurementModel>>>(
+      motion, model, config.rbpf, Pose3::Identity());
+}
+
+}  // namespace
 
 std::uint64_t pack_label(const backend::Label& l) {
   return (static_cast<std::uint64_t>(l.birth_step) << 12) | static_cast<std::uint64_t>(l.index & 0xFFF);
@@ -14,11 +82,13 @@ FilterStage::FilterStage(const StereoConfig& config, const StereoCalibration& ca
     : config_(config),
       motion_(config.motion),
       model_(calibration, config.measurement),
-      filter_(motion_, model_, config.rbpf, Pose3::Identity()),
+      filter_(make_backend(config, motion_, model_)),
       rules_{config.measurement.min_depth, config.measurement.max_depth, config.pipeline.max_octave,
              config.pipeline.max_measurements},
       grid_{config.pipeline.grid_columns, config.pipeline.grid_rows, static_cast<double>(calibration.width),
             static_cast<double>(calibration.height)} {}
+
+FilterStage::~FilterStage() = default;
 
 const FilterStep& FilterStage::step(const FrameWork& work, const frontend::VoEstimate& vo_estimate,
                                     const frontend::StereoVisualOdometry& vo, std::size_t k) {
@@ -55,31 +125,29 @@ const FilterStep& FilterStage::step(const FrameWork& work, const frontend::VoEst
   step_.control.covariance = control.covariance;
   Stopwatch watch;
   if (k == 0) {
-    filter_.initial_scan(step_.Z);  // the first frame's measurements anchor the map at the known initial pose
+    filter_->initial_scan(
+        step_.Z);  // the first frame's measurements anchor the map at the known initial pose
   } else {
-    filter_.step(step_.control, step_.Z);
+    filter_->step(step_.control, step_.Z);
   }
   step_.ms = watch.elapsed_ms();
   return step_;
 }
 
+Pose3 FilterStage::pose() const {
+  return filter_->pose();
+}
+
 FilterStatus FilterStage::status() const {
-  const auto& report = filter_.last_report();
-  return FilterStatus{report.tracks, report.hypotheses, report.ess, report.resampled};
+  return filter_->status();
 }
 
 PoseList FilterStage::trajectory() const {
-  const auto path = config_.pipeline.trajectory_estimate == "sample" ? filter_.trajectory()
-                                                                     : filter_.estimated_trajectory();
-  return PoseList(path.begin(), path.end());
+  return filter_->trajectory(config_.pipeline.trajectory_estimate == "sample");
 }
 
 std::vector<io::MapPoint> FilterStage::map_points() const {
-  std::vector<io::MapPoint> points;
-  for (const auto& lm : filter_.landmarks()) {
-    points.push_back(io::MapPoint{lm.mean, pack_label(lm.label), std::clamp(lm.existence, 0.0, 1.0)});
-  }
-  return points;
+  return filter_->map_points();
 }
 
 }  // namespace glmbslam::app
