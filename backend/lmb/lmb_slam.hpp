@@ -13,9 +13,7 @@
 // settings in RbpfConfig::glmb; "mh" is not supported). The particle loop is the shared skeleton of
 // backend/rbpf/particle_set.hpp; the estimate is the highest-weight particle before resampling and its
 // Bernoullis with existence above LmbConfig::estimate_existence.
-#include <cmath>
 #include <memory>
-#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -23,11 +21,11 @@
 #include "backend/lmb/lmb_config.hpp"
 #include "backend/lmb/lmb_map.hpp"
 #include "backend/lmb/lmb_update.hpp"
+#include "backend/rbpf/labelled_map_filter.hpp"
 #include "backend/rbpf/optimal_proposal.hpp"
 #include "backend/rbpf/particle_set.hpp"
 #include "backend/rbpf/rbpf_config.hpp"
 #include "core/error.hpp"
-#include "core/gaussian.hpp"
 #include "core/log_math.hpp"
 #include "core/random.hpp"
 #include "core/stopwatch.hpp"
@@ -70,7 +68,7 @@ class LmbSlam {
         lmb_(lmb),
         updater_(model, config.glmb, lmb),
         proposal_(motion, model, config),
-        factorized_(config.particle_normalizer == "factorized"),
+        weighting_(config),
         set_(config.particles, config.seed,
              ResamplingPolicy::parse(config.resampling, config.ess_threshold, "rbpf.resampling"),
              initial_pose, std::make_shared<const Map>()) {
@@ -79,51 +77,28 @@ class LmbSlam {
 
   /// Optional, before the first step: Z_0 at the (known) initial pose becomes the birth candidates of step 1.
   void initial_scan(const MeasurementSet& Z) {
-    if (set_.steps() != 0)
-      throw std::logic_error("LmbSlam::initial_scan must be called before the first step");
-    updater_.validate(Z, 0);
-    RandomStream rng(config_.seed, 0xFFFFFFULL);
-    auto map = std::make_shared<Map>();
-    const Particle& p0 = set_.particles()[0];
-    updater_.update(*p0.map, p0.trajectory->pose, Z, 0, rng, *map);
-    set_.set_common_map(std::move(map));
+    backend::initial_scan(set_, updater_, Z, config_.seed, "LmbSlam");
   }
 
   /// One filter step with control u (from step k−1 to k) and the measurement set Z_k.
   /// Throws InputError (and leaves the filter unchanged) if a measurement or the control is not finite.
   void step(const Control& u, const MeasurementSet& Z) {
     Stopwatch watch;
-    const int k = set_.steps() + 1;
-    if (!u.allFinite()) throw InputError("control input", "time step " + std::to_string(k) + ": not finite");
-    updater_.validate(Z, k);
+    const int k = begin_step(set_, updater_, u, Z);
     stats_.resize(set_.particles().size());
-    const bool optimal = config_.proposal == "optimal";
-    const bool paper = config_.weighting == "paper";
     const ParticleStepResult r =
         set_.step([&](std::size_t i, RandomStream& rng, const Particle& p, Particle& out) {
-          const State& x_prev = p.trajectory->pose;
           State x, x_estimate;
-          double log_increment = 0.0;
-          if (optimal) {
-            thread_local typename OptimalProposal<Motion, Meas>::Result q;
-            thread_local GlmbMap<Meas> view;
-            const State x_pred = motion_.predict(x_prev, u);
-            const Covariance P_pred = motion_.process_noise(x_prev, u);
-            most_probable_hypothesis(*p.map, view);
-            proposal_.build(view, x_pred, P_pred, Z, rng, q);
-            x = proposal_.sample(q, rng);
-            x_estimate = q.mean;
-            log_increment =
-                paper ? q.log_marginal
-                      : log_gaussian(Motion::local(x, x_pred), P_pred) - proposal_.log_density(q, x);
-          } else {
-            x = motion_.sample(x_prev, u, rng);
-            x_estimate = x;
-          }
+          auto view = [&]() -> const GlmbMap<Meas>& {  // the optimal kernel reads the most probable label set
+            thread_local GlmbMap<Meas> v;
+            most_probable_hypothesis(*p.map, v);
+            return v;
+          };
+          double log_increment =
+              draw_pose(weighting_, motion_, proposal_, view, p.trajectory->pose, u, Z, rng, x, x_estimate);
           auto map = std::make_shared<Map>();
           const LmbUpdateStats s = updater_.update(*p.map, x, Z, k, rng, *map);
-          if (!optimal || !paper)
-            log_increment += factorized_ ? s.log_normalizer_factorized : s.log_normalizer;
+          log_increment += weighting_.map_factor(s);
           out.trajectory = std::make_shared<const Node>(x, x_estimate, k, p.trajectory);
           out.map = std::move(map);
           stats_[i] = s;
@@ -159,12 +134,7 @@ class LmbSlam {
   static const RbpfConfig& validated(const RbpfConfig& config) {
     if (config.proposal != "prior" && config.proposal != "optimal")
       throw ConfigError("rbpf.proposal must be 'prior' or 'optimal' for LMB-SLAM");
-    if (config.weighting != "importance" && config.weighting != "paper")
-      throw ConfigError("rbpf.weighting must be 'importance' or 'paper'");
-    if (config.particle_normalizer != "sampled" && config.particle_normalizer != "factorized")
-      throw ConfigError("rbpf.particle_normalizer must be 'sampled' or 'factorized'");
-    if (config.single_particle != "sample" && config.single_particle != "mean")
-      throw ConfigError("rbpf.single_particle must be 'sample' or 'mean'");
+    validate_rbpf_weighting(config);
     return config;
   }
 
@@ -190,7 +160,7 @@ class LmbSlam {
   LmbConfig lmb_;
   LmbUpdater<Meas> updater_;
   OptimalProposal<Motion, Meas> proposal_;
-  bool factorized_ = false;
+  ProposalWeighting weighting_;
   ParticleSet<State, Map> set_;
   std::vector<LmbUpdateStats> stats_;
   LmbStepReport last_;

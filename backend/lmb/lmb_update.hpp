@@ -31,6 +31,7 @@
 #include "backend/glmb/glmb_update.hpp"
 #include "backend/lmb/lmb_config.hpp"
 #include "backend/lmb/lmb_map.hpp"
+#include "backend/rbpf/measurement_check.hpp"
 #include "core/error.hpp"
 #include "core/log_math.hpp"
 #include "core/random.hpp"
@@ -61,13 +62,7 @@ class LmbUpdater {
   const Meas& model() const { return model_; }
 
   /// Throws InputError if a measurement is not finite.
-  void validate(const MeasurementSet& Z, int step) const {
-    for (std::size_t j = 0; j < Z.size(); ++j) {
-      if (!model_.is_finite(Z[j]))
-        throw InputError("measurement set", "time step " + std::to_string(step) + ": measurement " +
-                                                std::to_string(j) + " is not finite");
-    }
-  }
+  void validate(const MeasurementSet& Z, int step) const { validate_measurement_set(model_, Z, step); }
 
   /// prior → posterior at pose x with the measurement set Z of time step `step`.
   LmbUpdateStats update(const Map& prior, const Pose& x, const MeasurementSet& Z, int step, RandomStream& rng,

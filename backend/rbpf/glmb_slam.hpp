@@ -27,6 +27,7 @@
 
 #include "backend/glmb/glmb_map.hpp"
 #include "backend/glmb/glmb_update.hpp"
+#include "backend/rbpf/labelled_map_filter.hpp"
 #include "backend/rbpf/mh_per_parent.hpp"
 #include "backend/rbpf/optimal_proposal.hpp"
 #include "backend/rbpf/particle_set.hpp"
@@ -75,7 +76,7 @@ class GlmbSlam {
         updater_(model, config.glmb),
         proposal_(motion, model, config),
         mh_(motion, model, mh),
-        factorized_(config.particle_normalizer == "factorized"),
+        weighting_(config),
         // the empty map is created non-const: recyclable
         set_(config.particles, config.seed,
              ResamplingPolicy::parse(config.resampling, config.ess_threshold, "rbpf.resampling"),
@@ -85,28 +86,17 @@ class GlmbSlam {
   /// the common initial map (so its measurements become birth candidates for step 1), anchoring the map to
   /// the initial pose. Throws InputError on a non-finite measurement, std::logic_error after step().
   void initial_scan(const MeasurementSet& Z) {
-    if (set_.steps() != 0)
-      throw std::logic_error("GlmbSlam::initial_scan must be called before the first step");
-    updater_.validate(Z, 0);
-    RandomStream rng(config_.seed, 0xFFFFFFULL);
-    auto map = std::make_shared<Map>();
-    const Particle& p0 = set_.particles()[0];
-    updater_.update(*p0.map, p0.trajectory->pose, Z, 0, rng, *map);
-    set_.set_common_map(std::move(map));
+    backend::initial_scan(set_, updater_, Z, config_.seed, "GlmbSlam");
   }
 
   /// One filter step with control u (from step k−1 to k) and the measurement set Z_k.
   /// Throws InputError (and leaves the filter unchanged) if a measurement or the control is not finite.
   void step(const Control& u, const MeasurementSet& Z) {
     Stopwatch watch;
-    const int k = set_.steps() + 1;
-    if (!u.allFinite()) throw InputError("control input", "time step " + std::to_string(k) + ": not finite");
-    updater_.validate(Z, k);
+    const int k = begin_step(set_, updater_, u, Z);
     const std::size_t n = set_.particles().size();
     stats_.resize(n);
-    const bool optimal = config_.proposal == "optimal";
     const bool mh = config_.proposal == "mh";
-    const bool paper = config_.weighting == "paper";
     if (mh) mh_.build(set_.particles(), u, Z);
     // the posterior maps: storage of maps no longer referenced (recycled at the end of the previous step,
     // keeping the capacity of their vectors) or new ones
@@ -122,31 +112,19 @@ class GlmbSlam {
     retired_.clear();
     for (const auto& p : set_.particles()) retired_.push_back(p.map);
     auto propagate = [&](std::size_t i, RandomStream& rng, const Particle& p, Particle& out) {
-      const State& x_prev = p.trajectory->pose;
       State x;
       State x_estimate;
-      double log_increment = 0.0;
+      double log_increment;
       if (mh) {  // the parent's MH-ID (shared by its resampled copies)
         log_increment = mh_.sample(i, rng, x, x_estimate);
-      } else if (optimal) {
-        thread_local typename OptimalProposal<Motion, Meas>::Result q;
-        const State x_pred = motion_.predict(x_prev, u);
-        const Covariance P_pred = motion_.process_noise(x_prev, u);
-        proposal_.build(*p.map, x_pred, P_pred, Z, rng, q);
-        x = proposal_.sample(q, rng);
-        x_estimate = q.mean;
-        if (paper) {
-          log_increment = q.log_marginal;
-        } else {
-          log_increment = log_gaussian(Motion::local(x, x_pred), P_pred) - proposal_.log_density(q, x);
-        }
       } else {
-        x = motion_.sample(x_prev, u, rng);
-        x_estimate = x;
+        auto view = [&]() -> const Map& { return *p.map; };
+        log_increment =
+            draw_pose(weighting_, motion_, proposal_, view, p.trajectory->pose, u, Z, rng, x, x_estimate);
       }
       std::shared_ptr<Map> map = std::move(fresh_[i]);
       const GlmbUpdateStats s = updater_.update(*p.map, x, Z, k, rng, *map);
-      if (!optimal || !paper) log_increment += factorized_ ? s.log_normalizer_factorized : s.log_normalizer;
+      log_increment += weighting_.map_factor(s);
       out.trajectory = std::make_shared<const Node>(x, x_estimate, k, p.trajectory);
       out.map = std::move(map);
       stats_[i] = s;
@@ -204,16 +182,11 @@ class GlmbSlam {
     if (config.particles < 1) throw ConfigError("rbpf.particles must be at least 1");
     if (config.proposal != "prior" && config.proposal != "optimal" && config.proposal != "mh")
       throw ConfigError("rbpf.proposal must be 'prior', 'optimal' or 'mh'");
-    if (config.weighting != "importance" && config.weighting != "paper")
-      throw ConfigError("rbpf.weighting must be 'importance' or 'paper'");
+    validate_rbpf_weighting(config);
     if (config.proposal == "mh" && config.weighting != "importance")
       throw ConfigError("rbpf.proposal 'mh' needs rbpf.weighting 'importance'");
     if (config.resampling != "always" && config.resampling != "ess")
       throw ConfigError("rbpf.resampling must be 'always' or 'ess'");
-    if (config.particle_normalizer != "sampled" && config.particle_normalizer != "factorized")
-      throw ConfigError("rbpf.particle_normalizer must be 'sampled' or 'factorized'");
-    if (config.single_particle != "sample" && config.single_particle != "mean")
-      throw ConfigError("rbpf.single_particle must be 'sample' or 'mean'");
     return config;
   }
 
@@ -230,7 +203,7 @@ class GlmbSlam {
   GlmbUpdater<Meas> updater_;
   OptimalProposal<Motion, Meas> proposal_;
   MhPerParent<Motion, Meas> mh_;  ///< proposal "mh"
-  bool factorized_ = false;       ///< RbpfConfig::particle_normalizer == "factorized"
+  ProposalWeighting weighting_;   ///< proposal / weighting / normaliser flags
   ParticleSet<State, Map> set_;
   std::vector<std::shared_ptr<Map>> fresh_, pool_;   ///< posterior maps of this step; recyclable maps
   std::vector<std::shared_ptr<const Map>> retired_;  ///< the previous step's maps, checked for reuse

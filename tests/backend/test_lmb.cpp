@@ -3,6 +3,7 @@
 // prediction/update, and against the δ-GLMB update of the same prior followed by lmb_from_glmb — plus
 // component reduction by moment matching and an end-to-end filter run.
 #include <cmath>
+#include <stdexcept>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -370,6 +371,27 @@ TEST(LmbSlam, ConfigIsValidated) {
   EXPECT_THROW((LmbSlam<UnicycleMotion, Model>(UnicycleMotion(UnicycleMotionConfig()), Model(), RbpfConfig(),
                                                lc, Pose2(0, 0, 0))),
                ConfigError);
+  RbpfConfig weighting;
+  weighting.weighting = "exact";  // the checks shared with δ-GLMB-SLAM (labelled_map_filter.hpp)
+  EXPECT_THROW((LmbSlam<UnicycleMotion, Model>(UnicycleMotion(UnicycleMotionConfig()), Model(), weighting,
+                                               LmbConfig(), Pose2(0, 0, 0))),
+               ConfigError);
+}
+
+TEST(LmbSlam, RejectsNonFiniteInputWithoutChangingStateAndScansOnlyFirst) {
+  const Model model;
+  LmbSlam<UnicycleMotion, Model> slam(UnicycleMotion(UnicycleMotionConfig()), model, RbpfConfig(),
+                                      LmbConfig(), Pose2(0, 0, 0));
+  LmbSlam<UnicycleMotion, Model>::MeasurementSet z{model.predict(Pose2(0, 0, 0), Eigen::Vector2d(10, 4))};
+  slam.initial_scan(z);
+  z.emplace_back(std::nan(""), 0.0);
+  EXPECT_THROW(slam.step(Eigen::Vector2d(1.0, 0.0), z), InputError);
+  z.pop_back();
+  EXPECT_THROW(slam.step(Eigen::Vector2d(std::nan(""), 0.0), z), InputError);
+  EXPECT_EQ(slam.steps(), 0);
+  slam.step(Eigen::Vector2d(1.0, 0.0), z);
+  EXPECT_EQ(slam.steps(), 1);
+  EXPECT_THROW(slam.initial_scan(z), std::logic_error);
 }
 
 }  // namespace
