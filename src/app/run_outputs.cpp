@@ -39,6 +39,7 @@ void write_map_plot(const std::string& path, const RunRecord& r) {
   if (r.ground_truth) add_path(*r.ground_truth, eval::colours::kBlack, "ground truth");
   add_path(r.vo_poses, eval::colours::kOrange, "visual odometry");
   add_path(r.slam_poses, eval::colours::kBlue, "delta-GLMB-SLAM");
+  if (r.refined_poses) add_path(*r.refined_poses, eval::colours::kGreen, "refined (RFS-ML)");
   plot.save_png(path);
 }
 
@@ -68,12 +69,14 @@ RunRecord frames_with_ground_truth(const RunRecord& r) {
   RunRecord kept = r;
   kept.slam_poses.clear();
   kept.vo_poses.clear();
+  if (kept.refined_poses) kept.refined_poses->clear();
   kept.ground_truth->clear();
   kept.ground_truth_mask.clear();
   for (std::size_t i = 0; i < r.ground_truth_mask.size(); ++i) {
     if (!r.ground_truth_mask[i]) continue;
     kept.slam_poses.push_back(r.slam_poses[i]);
     kept.vo_poses.push_back(r.vo_poses[i]);
+    if (r.refined_poses) kept.refined_poses->push_back((*r.refined_poses)[i]);
     kept.ground_truth->push_back((*r.ground_truth)[i]);
   }
   return kept;
@@ -88,6 +91,10 @@ void write_run_outputs(const std::string& out_dir, const RunRecord& r, bool plot
   io::write_kitti_poses((dir / "trajectory.txt").string(), r.slam_poses);
   io::write_kitti_poses((dir / "vo_trajectory.txt").string(), r.vo_poses);
   io::write_pcd_map((dir / "map.pcd").string(), r.map);
+  if (r.refined_poses) {
+    io::write_kitti_poses((dir / "trajectory_refined.txt").string(), *r.refined_poses);
+    io::write_pcd_map((dir / "map_refined.pcd").string(), r.refined_map);
+  }
   write_text_file_atomically(dir / "config_used.yaml", [&](std::ostream& out) { out << r.effective_config; });
 
   nlohmann::json j;
@@ -101,7 +108,7 @@ void write_run_outputs(const std::string& out_dir, const RunRecord& r, bool plot
   j["interrupted"] = r.interrupted;
   if (r.interrupted && !r.slam_poses.empty()) j["last_frame_done"] = r.first_frame + r.slam_poses.size() - 1;
   std::string table;
-  std::optional<eval::TrajectoryEvaluation> slam_evaluation, vo_evaluation;
+  std::optional<eval::TrajectoryEvaluation> slam_evaluation, vo_evaluation, refined_evaluation;
   // plots and the report compare per frame: with partial ground truth they show the frames that have it
   std::optional<RunRecord> evaluated;
   if (r.ground_truth && !r.ground_truth_mask.empty()) evaluated = frames_with_ground_truth(r);
@@ -123,6 +130,16 @@ void write_run_outputs(const std::string& out_dir, const RunRecord& r, bool plot
     j["slam"]["end_point_drift_percent"] = drift(r.slam_poses);
     j["vo"]["end_point_drift_percent"] = drift(r.vo_poses);
     table = "SLAM\n" + eval::format_table(slam) + "\nVO\n" + eval::format_table(vo);
+    if (r.refined_poses) {
+      const eval::TrajectoryEvaluation& refined = refined_evaluation.emplace(
+          eval::evaluate_trajectory_masked(*r.ground_truth, *r.refined_poses, r.ground_truth_mask));
+      j["refined"] = eval::to_json(refined);
+      j["refined"]["end_point_drift_percent"] = drift(*r.refined_poses);
+      table += "\nRefined (RFS-ML)\n" + eval::format_table(refined);
+      if (plots)
+        eval::write_evaluation_plots((dir / "plots" / "refined").string(), *shown.ground_truth,
+                                     *shown.refined_poses, refined, "refined (RFS-ML)");
+    }
     if (plots) {
       const RunRecord& e = shown;
       eval::write_evaluation_plots((dir / "plots" / "slam").string(), *e.ground_truth, e.slam_poses, slam,
@@ -147,6 +164,10 @@ void write_run_outputs(const std::string& out_dir, const RunRecord& r, bool plot
                  {"fps", r.wall_s > 0 ? frames / r.wall_s : 0.0},
                  {"peak_rss_mib", peak_rss_mib()}};
   j["map"] = {{"landmarks", r.map.size()}};
+  if (r.refined_poses) {
+    j["map"]["refined_landmarks"] = r.refined_map.size();
+    j["refinement"] = r.refinement;
+  }
   double ess = 0.0, res = 0.0;
   for (double e : r.ess_fraction) ess += e;
   for (bool b : r.resampled) res += b ? 1.0 : 0.0;
@@ -157,7 +178,8 @@ void write_run_outputs(const std::string& out_dir, const RunRecord& r, bool plot
                  {"missing_frames", r.missing_frames}};
   eval::write_json_file((dir / "metrics.json").string(), j);
   write_run_report((dir / "report.html").string(), shown, j, slam_evaluation ? &*slam_evaluation : nullptr,
-                   vo_evaluation ? &*vo_evaluation : nullptr);
+                   vo_evaluation ? &*vo_evaluation : nullptr,
+                   refined_evaluation ? &*refined_evaluation : nullptr);
 
   if (r.interrupted) {
     std::printf("\ninterrupted: %zu of %zu frames done\n", r.slam_poses.size(), r.frames_requested);
@@ -173,6 +195,10 @@ void write_run_outputs(const std::string& out_dir, const RunRecord& r, bool plot
       dir.string().c_str(), (dir / "report.html").string().c_str(), (dir / "trajectory.txt").string().c_str(),
       (dir / "vo_trajectory.txt").string().c_str(), (dir / "map.pcd").string().c_str(),
       (dir / "metrics.json").string().c_str(), (dir / "plots").string().c_str());
+  if (r.refined_poses) {
+    std::printf("  refined      %s, %s\n", (dir / "trajectory_refined.txt").string().c_str(),
+                (dir / "map_refined.pcd").string().c_str());
+  }
 }
 
 }  // namespace glmbslam::app

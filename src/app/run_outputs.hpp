@@ -3,14 +3,16 @@
 //   trajectory.txt      SLAM estimate (KITTI format, one pose per input frame)
 //   vo_trajectory.txt   the frontend's visual odometry, accumulated (KITTI format)
 //   map.pcd             labelled landmarks of the final MAP estimate with existence probability
+//   trajectory_refined.txt, map_refined.pcd   with --refine ml: the RFS-ML refinement's trajectory and map
 //   report.html         the interactive report (eval/html_report.hpp; app/run_report.hpp): opens offline
-//   metrics.json        `slam` and `vo` evaluation blocks (when ground truth exists), `timing`, `map`,
-//                       `filter`
+//   metrics.json        `slam` and `vo` evaluation blocks (when ground truth exists; `refined` too with
+//                       --refine ml), `timing`, `map`, `filter` (and `refinement`: its timings and counters)
 //   config_used.yaml    the effective configuration
 //   plots/              trajectories vs ground truth, errors, map top view (PNG)
 // An interrupted run (SIGINT/SIGTERM) writes the same files for the frames it finished: the trajectories hold
 // one pose per finished frame and metrics.json says "interrupted": true with the frames requested and the
 // last frame done.
+#include <map>
 #include <string>
 #include <vector>
 
@@ -34,7 +36,9 @@ struct RunRecord {
   std::vector<double> frontend_ms, vo_ms, backend_ms;
   std::vector<double> ess_fraction;  ///< ESS / N per step
   std::vector<int> tracks;           ///< landmarks (tracks of the best particle) after each frame, if known
-  std::optional<PoseList> refined_poses;  ///< the refined trajectory (trajectory_refined.txt), if any
+  std::optional<PoseList> refined_poses;     ///< the refined trajectory (trajectory_refined.txt), if any
+  std::vector<io::MapPoint> refined_map;     ///< the refined map (map_refined.pcd), with refined_poses
+  std::map<std::string, double> refinement;  ///< the refinement's timings and counters (metrics.json)
   std::vector<bool> resampled;
   std::size_t vo_fallbacks = 0;
   std::size_t missing_frames = 0;

@@ -34,7 +34,8 @@ void add_summary(eval::HtmlReport& report, const std::vector<eval::ReportEvaluat
 }  // namespace
 
 void write_run_report(const std::string& path, const RunRecord& r, const json& metrics,
-                      const eval::TrajectoryEvaluation* slam, const eval::TrajectoryEvaluation* vo) {
+                      const eval::TrajectoryEvaluation* slam, const eval::TrajectoryEvaluation* vo,
+                      const eval::TrajectoryEvaluation* refined) {
   eval::HtmlReport report("glmbslam run: " + r.dataset_name,
                           r.algorithm + ", " + std::to_string(r.particles) + " particle(s), seed " +
                               std::to_string(r.seed) + ", frames " + std::to_string(r.first_frame) + "–" +
@@ -42,6 +43,7 @@ void write_run_report(const std::string& path, const RunRecord& r, const json& m
   std::vector<eval::ReportEvaluation> evaluations;
   if (slam) evaluations.push_back({"δ-GLMB-SLAM", slam, colours::kSlam});
   if (vo) evaluations.push_back({"visual odometry", vo, colours::kVo});
+  if (refined) evaluations.push_back({"refined (RFS-ML)", refined, colours::kRefined});
   if (!evaluations.empty()) add_summary(report, evaluations);
 
   report.add_section(

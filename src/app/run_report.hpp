@@ -12,9 +12,11 @@
 
 namespace glmbslam::app {
 
-/// The report of a stereo `run`; `slam` and `vo` are the evaluations (null without ground truth).
+/// The report of a stereo `run`; `slam`, `vo` and `refined` are the evaluations (null without ground truth;
+/// `refined` also without --refine ml).
 void write_run_report(const std::string& path, const RunRecord& record, const nlohmann::json& metrics,
-                      const eval::TrajectoryEvaluation* slam, const eval::TrajectoryEvaluation* vo);
+                      const eval::TrajectoryEvaluation* slam, const eval::TrajectoryEvaluation* vo,
+                      const eval::TrajectoryEvaluation* refined = nullptr);
 
 /// What `glmbslam vo` reports.
 struct VoReportInput {

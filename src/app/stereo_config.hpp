@@ -13,8 +13,8 @@
 
 #include <yaml-cpp/yaml.h>
 
-#include "backend/lmb/lmb_config.hpp"
 #include "app/refine_config.hpp"
+#include "backend/lmb/lmb_config.hpp"
 #include "backend/models/se3_motion.hpp"
 #include "backend/models/stereo_measurement_model.hpp"
 #include "backend/rbpf/rbpf_config.hpp"

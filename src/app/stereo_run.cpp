@@ -1,7 +1,8 @@
 // `glmbslam run` on a stereo sequence (KITTI odometry or raw): reads the configuration, runs the stereo
 // pipeline (pipeline/stereo_pipeline.hpp: reader + frontend → VO → δ-GLMB-SLAM 2.0 filter → later stages:
-// the RFS-ML refinement with --refine ml) and writes trajectory.txt, vo_trajectory.txt, map.pcd, metrics.json,
-// plots and the effective config (with --refine ml also trajectory_refined.txt and map_refined.pcd).
+// the RFS-ML refinement with --refine ml) and writes trajectory.txt, vo_trajectory.txt, map.pcd,
+// metrics.json, plots and the effective config (with --refine ml also trajectory_refined.txt and
+// map_refined.pcd).
 #include <sstream>
 
 #include <spdlog/spdlog.h>

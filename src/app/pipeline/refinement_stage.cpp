@@ -1,0 +1,113 @@
+#include "app/pipeline/refinement_stage.hpp"
+
+#include <algorithm>
+
+#include <spdlog/spdlog.h>
+
+#include "core/stopwatch.hpp"
+
+namespace glmbslam::app {
+namespace {
+
+backend::MlSlamConfig with_rounds(backend::MlSlamConfig c, int rounds) {
+  c.max_rounds = rounds;
+  return c;
+}
+
+/// The landmarks of `map` that some pose of `poses` has in view, moved by `correction`.
+backend::StereoMlSlam::LandmarkList landmarks_in_view(const std::vector<io::MapPoint>& map,
+                                                      const Pose3& correction,
+                                                      const backend::StereoMlSlam::PoseList& poses,
+                                                      const backend::StereoMeasurementModel& model) {
+  backend::StereoMlSlam::LandmarkList out;
+  for (const auto& p : map) {
+    const Eigen::Vector3d m = correction * p.position;
+    for (const auto& x : poses) {
+      if (!model.in_field_of_view(x, m)) continue;
+      out.push_back(m);
+      break;
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+RefinementStage::RefinementStage(const StereoConfig& config, const StereoCalibration& calibration)
+    : settings_(config.refine),
+      motion_(config.motion),
+      model_(calibration, config.measurement),
+      window_solver_(motion_, model_, with_rounds(config.refine.ml, config.refine.window_rounds)),
+      final_solver_(motion_, model_, config.refine.ml) {}
+
+void RefinementStage::on_frame(const FrameOutcome& frame) {
+  if (frame.filter == nullptr || frame.filter_step == nullptr) return;  // no backend: nothing to refine
+  const FilterStep& step = *frame.filter_step;
+  scans_.emplace_back(step.Z.begin(), step.Z.end());
+  controls_.push_back(step.control);
+  filter_poses_.push_back(frame.filter->pose());
+  const std::size_t k = filter_poses_.size() - 1;
+  // until a window refines it, a frame follows the filter's motion from the previous refined pose
+  refined_.push_back(k == 0 ? filter_poses_[0]
+                            : refined_[k - 1] * (filter_poses_[k - 1].inverse() * filter_poses_[k]));
+  const auto W = static_cast<std::size_t>(settings_.window);
+  if (W >= 2 && k + 1 >= 2 && (k + 1) % static_cast<std::size_t>(settings_.every) == 0)
+    solve_window(k, frame.filter->map_points());
+}
+
+void RefinementStage::solve_window(std::size_t last, const std::vector<io::MapPoint>& filter_map) {
+  Stopwatch watch;
+  const std::size_t W = static_cast<std::size_t>(settings_.window);
+  const std::size_t first = last + 1 >= W ? last + 1 - W : 0;
+  backend::StereoMlSlam::PoseList poses(refined_.begin() + static_cast<long>(first),
+                                        refined_.begin() + static_cast<long>(last + 1));
+  const backend::StereoMlSlam::ControlList controls(controls_.begin() + static_cast<long>(first),
+                                                    controls_.begin() + static_cast<long>(last + 1));
+  const std::vector<backend::StereoMlSlam::MeasurementSet> scans(
+      scans_.begin() + static_cast<long>(first), scans_.begin() + static_cast<long>(last + 1));
+  // the filter's map in the refined frame: the correction at the held first pose
+  const Pose3 correction = refined_[first] * filter_poses_[first].inverse();
+  backend::StereoMlSlam::LandmarkList map = landmarks_in_view(filter_map, correction, poses, model_);
+  const backend::MlSlamReport report = window_solver_.solve(poses, controls, scans, map);
+  for (std::size_t i = 1; i < poses.size(); ++i) refined_[first + i] = poses[i];
+  ++windows_;
+  window_rounds_ += report.rounds;
+  window_ms_ += watch.elapsed_ms();
+}
+
+void RefinementStage::on_finish(RunRecord& record) {
+  if (refined_.empty()) return;
+  std::map<std::string, double>& stats = record.refinement;
+  stats["windows"] = static_cast<double>(windows_);
+  stats["window_ms_mean"] = windows_ > 0 ? window_ms_ / static_cast<double>(windows_) : 0.0;
+  stats["window_ms_total"] = window_ms_;
+  stats["window_rounds_mean"] = windows_ > 0 ? window_rounds_ / static_cast<double>(windows_) : 0.0;
+  record.refined_poses = refined_;
+  // the filter's map moved into the refined frame by the correction at the last frame
+  const Pose3 correction = refined_.back() * filter_poses_.back().inverse();
+  record.refined_map = record.map;
+  for (auto& p : record.refined_map) p.position = correction * p.position;
+  // an interrupted run keeps the online result: the final pass is the long part
+  if (!settings_.final_pass || record.interrupted || record.slam_poses.size() != refined_.size()) return;
+  Stopwatch watch;
+  backend::StereoMlSlam::PoseList poses(record.slam_poses.begin(), record.slam_poses.end());
+  backend::StereoMlSlam::LandmarkList map;
+  map.reserve(record.map.size());
+  for (const auto& p : record.map) map.push_back(p.position);
+  const backend::MlSlamReport r = final_solver_.solve(poses, controls_, scans_, map);
+  record.refined_poses = PoseList(poses.begin(), poses.end());
+  record.refined_map.clear();
+  for (std::size_t j = 0; j < map.size(); ++j)
+    record.refined_map.push_back(io::MapPoint{map[j], static_cast<std::uint64_t>(j), 1.0});
+  stats["final_ms"] = watch.elapsed_ms();
+  stats["final_rounds"] = r.rounds;
+  stats["final_log_likelihood_gain"] = r.final_log_likelihood - r.initial_log_likelihood;
+  stats["final_births"] = r.births;
+  stats["final_deaths"] = r.deaths;
+  stats["final_merges"] = r.merges;
+  spdlog::info(
+      "refinement: {} windows ({:.1f} ms each), final pass {:.0f} ms, {} rounds, log-likelihood +{:.1f}",
+      windows_, stats["window_ms_mean"], stats["final_ms"], r.rounds, stats["final_log_likelihood_gain"]);
+}
+
+}  // namespace glmbslam::app

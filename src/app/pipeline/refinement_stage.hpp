@@ -1,0 +1,50 @@
+#pragma once
+// Refinement of the stereo filter by RFS maximum-likelihood SLAM (paper 004;
+// backend/mlslam/stereo_ml_slam.hpp), `glmbslam run --refine ml`: the trajectory and the landmark set are
+// re-estimated with the associations summed out (Eq. 7–8), from the filter's estimate, with the VO controls
+// and their covariance Q as the motion factors and the measurement sets the filter was given.
+//   online: every `refine.every` frames, the last `refine.window` frames are solved with their first pose
+//   held
+//           (older poses fixed); the landmarks start from the filter's current map, moved into the refined
+//           frame by the correction at the window's first pose; frames not yet refined follow the filter's
+//           motion from the last refined pose.
+//   final:  one solve over the whole run from the filter's final trajectory and map (`refine.final`).
+// The stage uses only what the pipeline hands every stage (FrameOutcome): the filter's pose, trajectory, map
+// and its measurement sets and controls.
+#include <vector>
+
+#include "app/pipeline/pipeline_stage.hpp"
+#include "app/stereo_config.hpp"
+#include "backend/mlslam/stereo_ml_slam.hpp"
+
+namespace glmbslam::app {
+
+class RefinementStage : public PipelineStage {
+ public:
+  /// `config.refine` holds the settings; the config must outlive the stage.
+  RefinementStage(const StereoConfig& config, const StereoCalibration& calibration);
+
+  void on_frame(const FrameOutcome& frame) override;
+  /// Sets record.refined_poses, record.refined_map and record.refinement (timings and solver counters).
+  void on_finish(RunRecord& record) override;
+
+  /// The refined trajectory so far, one pose per frame (frames after the last window follow the filter).
+  const PoseList& trajectory() const { return refined_; }
+
+ private:
+  void solve_window(std::size_t last, const std::vector<io::MapPoint>& filter_map);
+
+  const RefineSettings& settings_;
+  backend::Se3Motion motion_;
+  backend::StereoMeasurementModel model_;
+  backend::StereoMlSlam window_solver_, final_solver_;
+  backend::StereoMlSlam::ControlList controls_;
+  std::vector<backend::StereoMlSlam::MeasurementSet> scans_;
+  PoseList filter_poses_;  ///< the filter's pose at each frame, as it was online
+  PoseList refined_;
+  std::size_t windows_ = 0;
+  double window_ms_ = 0.0;
+  int window_rounds_ = 0;
+};
+
+}  // namespace glmbslam::app

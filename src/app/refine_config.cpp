@@ -1,0 +1,28 @@
+#include "app/refine_config.hpp"
+
+namespace glmbslam::app {
+
+backend::MlSlamConfig RefineSettings::default_stereo_mlslam_config() {
+  backend::MlSlamConfig c;
+  c.max_rounds = 10;
+  c.solver_iterations = 10;
+  c.border_range_m = 0.0;  // 2 % of the maximum depth
+  c.border_pixels = 0.0;   // the pixel σ
+  c.birth_radius_m = 0.3;  // unexplained measurements triangulating this close form one landmark
+  c.merge_distance_m = 0.1;
+  c.incremental_steps = 0;  // not used by the refinement (it starts from the filter's estimate)
+  return c;
+}
+
+void load_refine_config(ConfigNode node, RefineSettings& c) {
+  node.read("enabled", c.enabled);
+  node.read_in_range("window", c.window, 0, 100000);
+  if (c.window == 1) node.fail("window", "must be 0 (no online window) or at least 2 frames");
+  node.read_in_range("every", c.every, 1, 100000);
+  node.read("final", c.final_pass);
+  node.read_in_range("window_rounds", c.window_rounds, 1, 1000);
+  if (node.has("mlslam")) backend::load_mlslam_config(node.child("mlslam"), c.ml);
+  node.finish();
+}
+
+}  // namespace glmbslam::app

@@ -1,0 +1,26 @@
+#pragma once
+// Settings of the stereo refinement stage (`glmbslam run --refine ml`, pipeline/refinement_stage.hpp): RFS
+// maximum-likelihood SLAM (paper 004, backend/mlslam) on the filter's trajectory and map, over a sliding
+// window online and over the whole run at the end. YAML mapping `refine` of the stereo config
+// (config/kitti*.yaml document every key); its child `mlslam` holds the solver's settings
+// (backend/mlslam/mlslam_config.hpp).
+#include "backend/mlslam/mlslam_config.hpp"
+#include "core/config_node.hpp"
+
+namespace glmbslam::app {
+
+struct RefineSettings {
+  bool enabled = false;    ///< run the refinement (also `--refine ml`)
+  int window = 10;         ///< frames of the online sliding window (its first pose held); 0 = no window
+  int every = 5;           ///< solve the window every this many frames
+  bool final_pass = true;  ///< key `final`: one solve over the whole run at the end (replaces the online one)
+  int window_rounds = 3;   ///< EM rounds of a window solve (the final pass uses mlslam.max_rounds)
+  backend::MlSlamConfig ml = default_stereo_mlslam_config();
+
+  static backend::MlSlamConfig default_stereo_mlslam_config();
+};
+
+/// Reads `node` (the `refine` mapping) over `c`; throws ConfigError naming the key on a bad value.
+void load_refine_config(ConfigNode node, RefineSettings& c);
+
+}  // namespace glmbslam::app
