@@ -31,6 +31,7 @@
 #include "backend/glmb/glmb_config.hpp"
 #include "backend/glmb/glmb_map.hpp"
 #include "backend/glmb/llt_solve.hpp"
+#include "backend/glmb/measurement_check.hpp"
 #include "core/error.hpp"
 #include "core/gaussian.hpp"
 #include "core/log_math.hpp"
@@ -104,14 +105,7 @@ class GlmbUpdater {
   const Meas& model() const { return model_; }
 
   /// Throws InputError if a measurement is not finite.
-  void validate(const MeasurementSet& Z, int step) const {
-    for (std::size_t j = 0; j < Z.size(); ++j) {
-      if (!model_.is_finite(Z[j])) {
-        throw InputError("measurement set", "time step " + std::to_string(step) + ": measurement " +
-                                                std::to_string(j) + " is not finite");
-      }
-    }
-  }
+  void validate(const MeasurementSet& Z, int step) const { validate_measurement_set(model_, Z, step); }
 
   /// prior → posterior at pose x with the measurement set Z of time step `step`.
   GlmbUpdateStats update(const Map& prior, const Pose& x, const MeasurementSet& Z, int step,
