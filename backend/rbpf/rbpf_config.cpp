@@ -16,6 +16,7 @@ void load_rbpf_config(ConfigNode node, RbpfConfig& config) {
   node.read_in_range("proposal_min_weight", config.proposal_min_weight, 0.0, 1.0);
   node.read_in_range("proposal_gibbs_samples", config.proposal_gibbs_samples, 1, 1000000);
   node.read_in_range("proposal_max_components", config.proposal_max_components, 1, 100000);
+  node.read_in_range("proposal_association_rounds", config.proposal_association_rounds, 1, 100);
   node.read_in_range("ipl_iterations", config.ipl_iterations, 1, 100);
   node.read_in_range("ipl_tolerance", config.ipl_tolerance, 0.0, 1e6);
   node.read_in_range("proposal_gate_threshold", config.proposal_gate_threshold, 0.0, 1e6);

@@ -24,8 +24,12 @@ struct RbpfConfig {
   double proposal_min_weight = 1e-3;  ///< ... with at least this weight (the best one is always used)
   int proposal_gibbs_samples = 50;    ///< Gibbs sweeps per map hypothesis for the association hypotheses
   int proposal_max_components = 10;   ///< association hypotheses kept (highest weight first)
-  int ipl_iterations = 5;             ///< relinearisations of the FastSLAM-2.0 Gaussian (003 Algorithm 1)
-  double ipl_tolerance = 1e-3;        ///< KL divergence at which the relinearisation stops
+  /// Association rounds of the proposal: round 0 associates at the prediction (x̄, P̄); while the best
+  /// hypothesis has a detection that fails the gate at the pose it implies, the next round re-associates at
+  /// that pose (optimal_proposal.hpp). 1: round 0 only (paper 000)
+  int proposal_association_rounds = 3;
+  int ipl_iterations = 5;                ///< relinearisations of the FastSLAM-2.0 Gaussian (003 Algorithm 1)
+  double ipl_tolerance = 1e-3;           ///< KL divergence at which the relinearisation stops
   double proposal_gate_threshold = 0.0;  ///< χ² gate with the pose-marginal S' (≤ 0: use glmb.gate_threshold)
   /// Birth candidates (GlmbMap::births: the previous scan's adaptive-birth Bernoullis) as extra rows of the
   /// proposal's association sampler, with the update's η of a birth: "never" (paper 000: tracks only),
