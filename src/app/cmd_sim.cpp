@@ -25,7 +25,8 @@ void register_sim_command(CLI::App& app) {
          "simulator's true landmark labels), dr (dead reckoning), mlslam (RFS maximum-likelihood SLAM of "
          "paper 004 from the odometry)")
       ->capture_default_str();
-  cmd->add_option("--particles", options->particles, "particles per filter")->capture_default_str();
+  cmd->add_option("--particles", options->particles,
+                  "particles per filter (default: the config's rbpf.particles / phd.particles, else 10)");
   cmd->add_option("--runs", options->runs, "Monte Carlo runs (run in parallel)")->capture_default_str();
   cmd->add_option(
          "--first-run", options->first_run,
@@ -33,8 +34,8 @@ void register_sim_command(CLI::App& app) {
          "the data realisation and the filter seed, so tuning runs can be kept apart from reported ones)")
       ->capture_default_str();
   cmd->add_option("--clutter", options->clutter, "clutter rate λ_c per scan (paper2019; default 5)");
-  cmd->add_option("--seed", options->seed, "filter seed base (run r uses seed·1000003 + r)")
-      ->capture_default_str();
+  cmd->add_option("--seed", options->seed,
+                  "filter seed base, run r uses seed·1000003 + r (default: the config's rbpf.seed, else 0)");
   cmd->add_option("--config", options->config_file,
                   "YAML with optional 'rbpf', 'phd' (phd1, phd3), 'mh' (multi-hypothesis proposal), 'lmb', "
                   "'fastslam' and 'mlslam' mappings");

@@ -24,6 +24,7 @@
 #include "core/atomic_file.hpp"
 #include "core/config_node.hpp"
 #include "core/error.hpp"
+#include "core/interrupt.hpp"
 #include "core/lie.hpp"
 #include "core/parallel.hpp"
 #include "core/stopwatch.hpp"
@@ -104,6 +105,9 @@ void score_final_map(RunRecord& rec, const sim::Scenario2D& s, const std::vector
   rec.final_cardinality_error = static_cast<int>(rec.final_map.size()) - static_cast<int>(seen.back().size());
 }
 
+/// Thrown by a run that stops at a step boundary on SIGINT/SIGTERM; the run is left out of the metrics.
+struct RunInterrupted {};
+
 /// Drives one filter over the scenario (steps 1..K−1 with u_k and Z_k).
 template <class Slam>
 RunRecord drive(Slam& slam, const sim::Scenario2D& s, const std::vector<std::vector<int>>& seen,
@@ -114,6 +118,7 @@ RunRecord drive(Slam& slam, const sim::Scenario2D& s, const std::vector<std::vec
   set_true_labels(slam, s.measurement_sources[0], 0);  // FastSLAM 2.0 with known associations only
   slam.initial_scan(z);  // Z_0 at the known initial pose: births for step 1, anchoring the map
   for (std::size_t k = 1; k < s.steps(); ++k) {
+    if (interrupt_requested()) throw RunInterrupted{};
     z.assign(s.measurements[k].begin(), s.measurements[k].end());
     set_true_labels(slam, s.measurement_sources[k], 0);
     slam.step(s.controls[k], z);
@@ -198,7 +203,7 @@ template <class Motion>
 RunRecord run_recursive_filter(const Motion& motion, const RangeBearingModel& model, const sim::Scenario2D& s,
                                const SimOptions& o, Filters f, int run,
                                const std::vector<std::vector<int>>& seen) {
-  const std::uint64_t seed = o.seed * 1000003ULL + static_cast<std::uint64_t>(run);
+  const std::uint64_t seed = *o.seed * 1000003ULL + static_cast<std::uint64_t>(run);
   const bool ospa_steps = o.scenario == "paper2019";
   if (o.algorithm == "dr") {
     DeadReckoning<Motion> dr(motion, s.initial_pose());
@@ -206,22 +211,22 @@ RunRecord run_recursive_filter(const Motion& motion, const RangeBearingModel& mo
   }
   if (o.algorithm == "phd1" || o.algorithm == "phd3") {
     backend::PhdConfig& phd = o.algorithm == "phd3" ? f.phd3 : f.phd;
-    phd.particles = o.particles;
+    phd.particles = *o.particles;
     phd.seed = seed;
     phd.proposal = o.algorithm == "phd3" ? "mh" : "prior";
     backend::PhdSlam<Motion, RangeBearingModel> slam(motion, model, phd, s.initial_pose(), f.mh);
-    return drive(slam, s, seen, ospa_steps, o.particles);
+    return drive(slam, s, seen, ospa_steps, *o.particles);
   }
-  f.rbpf.particles = o.particles;
+  f.rbpf.particles = *o.particles;
   f.rbpf.seed = seed;
   if (is_baseline_algorithm(o.algorithm)) {
     return with_baseline_filter<Motion>(
         o.algorithm, motion, model, f.rbpf, f.baselines, s.initial_pose(),
-        [&](auto& slam) { return drive(slam, s, seen, ospa_steps, o.particles); });
+        [&](auto& slam) { return drive(slam, s, seen, ospa_steps, *o.particles); });
   }
   f.rbpf.proposal = o.algorithm == "glmb1" ? "prior" : o.algorithm == "glmb_mh" ? "mh" : "optimal";
   backend::GlmbSlam<Motion, RangeBearingModel> slam(motion, model, f.rbpf, s.initial_pose(), f.mh);
-  return drive(slam, s, seen, ospa_steps, o.particles);
+  return drive(slam, s, seen, ospa_steps, *o.particles);
 }
 
 template <class Motion>
@@ -339,7 +344,7 @@ void write_plots(const std::filesystem::path& dir, const sim::Scenario2D& s0, co
                  const std::vector<double>& rmse_x, const std::vector<double>& rmse_y,
                  const std::vector<double>& rmse_h, const std::vector<double>& ospa_mean,
                  const SimOptions& o) {
-  const std::string tag = o.scenario + " " + o.algorithm + " N=" + std::to_string(o.particles);
+  const std::string tag = o.scenario + " " + o.algorithm + " N=" + std::to_string(*o.particles);
   {
     eval::LinePlot plot("Trajectory and map, run " + std::to_string(o.first_run) + " (" + tag + ")", "x [m]",
                         "y [m]");
@@ -382,7 +387,15 @@ void write_plots(const std::filesystem::path& dir, const sim::Scenario2D& s0, co
 
 }  // namespace
 
-json run_simulation(const SimOptions& o) {
+json run_simulation(const SimOptions& options) {
+  SimOptions o = options;
+  const Filters filters = load_filters(o);
+  // a flag overrides the config file; without it the file's value (or the built-in default) holds
+  const bool phd = o.algorithm == "phd1" || o.algorithm == "phd3";
+  if (!o.particles)
+    o.particles =
+        phd ? (o.algorithm == "phd3" ? filters.phd3 : filters.phd).particles : filters.rbpf.particles;
+  if (!o.seed) o.seed = phd ? (o.algorithm == "phd3" ? filters.phd3 : filters.phd).seed : filters.rbpf.seed;
   if (o.scenario != "paper2019" && o.scenario != "phdslam3" && o.scenario != "paper004") {
     throw ConfigError("--scenario must be paper2019, phdslam3 or paper004, got '" + o.scenario + "'");
   }
@@ -395,11 +408,10 @@ json run_simulation(const SimOptions& o) {
         "fastslam2-known, dr or mlslam, got '" +
         o.algorithm + "'");
   }
-  if (o.particles < 1) throw ConfigError("--particles must be at least 1");
+  if (*o.particles < 1) throw ConfigError("--particles must be at least 1");
   if (o.runs < 1) throw ConfigError("--runs must be at least 1");
   if (o.first_run < 0) throw ConfigError("--first-run must not be negative");
   if (o.out_dir.empty()) throw ConfigError("--out is required");
-  const Filters filters = load_filters(o);
   ensure_writable_directory(o.out_dir);
 
   // scenarios
@@ -432,21 +444,28 @@ json run_simulation(const SimOptions& o) {
     return sim::make_phdslam3_scenario(env, static_cast<std::uint64_t>(run), opt);
   };
 
-  const std::size_t runs = static_cast<std::size_t>(o.runs);
-  std::vector<RunRecord> records(runs);
-  std::vector<std::exception_ptr> errors(runs);
+  const std::size_t requested = static_cast<std::size_t>(o.runs);
+  std::vector<RunRecord> records(requested);
+  std::vector<std::exception_ptr> errors(requested);
+  std::vector<char> finished(requested, 0);
   std::mutex log_mutex;
   std::size_t done = 0;
   Stopwatch wall;
-  parallel_for(runs, [&](std::size_t r) {
+  set_graceful_interrupts(
+      true);  // SIGINT/SIGTERM: no new run starts, runs in progress stop at their next step
+  parallel_for(requested, [&](std::size_t r) {
+    if (interrupt_requested()) return;
     try {
       const int run = o.first_run + static_cast<int>(r);
       const sim::Scenario2D s = scenario_of(run);
       records[r] = run_one(s, o, filters, run);
       std::lock_guard<std::mutex> lock(log_mutex);
+      finished[r] = 1;
       ++done;
-      spdlog::info("sim {} {} N={}: run {} done ({}/{})", o.scenario, o.algorithm, o.particles,
-                   o.first_run + static_cast<int>(r), done, runs);
+      spdlog::info("sim {} {} N={}: run {} done ({}/{})", o.scenario, o.algorithm, *o.particles,
+                   o.first_run + static_cast<int>(r), done, requested);
+    } catch (const RunInterrupted&) {
+      // left out: the metrics average finished runs only
     } catch (...) {
       errors[r] = std::current_exception();
     }
@@ -455,9 +474,31 @@ json run_simulation(const SimOptions& o) {
     if (e) std::rethrow_exception(e);
   }
   const double wall_s = wall.elapsed_ms() / 1000.0;
+  std::vector<int> run_indices;  // entry i: the run (data realisation) of records[i]
+  for (std::size_t r = 0, kept = 0; r < requested; ++r) {
+    if (finished[r] == 0) continue;
+    run_indices.push_back(o.first_run + static_cast<int>(r));
+    if (kept != r) records[kept] = std::move(records[r]);
+    ++kept;
+  }
+  records.resize(run_indices.size());
+  const std::size_t runs = records.size();
+  const bool interrupted = runs < requested;
+  if (interrupted) {
+    spdlog::warn("sim: interrupted; {} of {} runs finished, the metrics cover those", runs, requested);
+  }
+  const std::filesystem::path dir(o.out_dir);
+  if (runs == 0) {
+    const json m = {{"scenario", o.scenario},      {"algorithm", o.algorithm},
+                    {"particles", *o.particles},   {"runs", 0},
+                    {"runs_requested", requested}, {"run_indices", run_indices},
+                    {"interrupted", true},         {"wall_time_s", wall_s}};
+    eval::write_json_file((dir / "metrics.json").string(), m);
+    return m;
+  }
 
   // ground truth per run (phdslam3 regenerates only the measurements and odometry: the poses are the same)
-  const sim::Scenario2D s0 = scenario_of(o.first_run);
+  const sim::Scenario2D s0 = scenario_of(run_indices.front());
   const std::size_t K = s0.steps();
   const auto seen_s0 = seen_so_far(s0);
   std::vector<double> rmse_x(K, 0.0), rmse_y(K, 0.0), rmse_h(K, 0.0), ospa_mean, gospa_mean, card_mean;
@@ -517,11 +558,14 @@ json run_simulation(const SimOptions& o) {
   json m;
   m["scenario"] = o.scenario;
   m["algorithm"] = o.algorithm;
-  m["particles"] = o.particles;
-  m["runs"] = o.runs;
+  m["particles"] = *o.particles;
+  m["runs"] = runs;
+  m["runs_requested"] = requested;
+  m["run_indices"] = run_indices;
+  m["interrupted"] = interrupted;
   m["first_run"] = o.first_run;
   m["clutter_rate"] = clutter;
-  m["seed"] = o.seed;
+  m["seed"] = *o.seed;
   m["steps"] = K;
   m["threads"] = thread_count();
   m["wall_time_s"] = wall_s;
@@ -530,7 +574,7 @@ json run_simulation(const SimOptions& o) {
       std::sqrt(se_head / static_cast<double>(std::max<std::size_t>(n_err, 1))) * kRad2Deg;
   m["position_rmse_per_run_m"] = summary_json(per_run_pos);
   m["heading_rmse_per_run_deg"] = summary_json(per_run_head);
-  m["position_rmse_each_run_m"] = per_run_pos;  // entry i: run first_run + i (= data realisation)
+  m["position_rmse_each_run_m"] = per_run_pos;  // entry i: run run_indices[i] (= data realisation)
   m["rmse_per_step"] = json{{"x_m", rmse_x}, {"y_m", rmse_y}, {"heading_deg", rmse_h}};
   if (o.scenario == "paper2019") {
     const double mean_over_steps = mean_of(ospa_mean);
@@ -572,7 +616,6 @@ json run_simulation(const SimOptions& o) {
   m["ess_percent"] = mean_of(ess_all);
   m["resampling_percent"] =
       steps_total > 0 ? 100.0 * static_cast<double>(resampled) / static_cast<double>(steps_total) : 0.0;
-  const std::filesystem::path dir(o.out_dir);
   if (o.plots) write_plots(dir, s0, records[0], rmse_x, rmse_y, rmse_h, ospa_mean, o);
   eval::write_json_file((dir / "metrics.json").string(), m);
   write_sim_report((dir / "report.html").string(), m, s0, records[0].estimates, records[0].final_map);
@@ -580,6 +623,7 @@ json run_simulation(const SimOptions& o) {
 }
 
 std::string summarize_simulation(const json& m) {
+  if (m["runs"].get<int>() == 0) return "sim interrupted before any run finished (metrics.json says so)";
   std::ostringstream s;
   s.setf(std::ios::fixed);
   s.precision(3);
@@ -592,6 +636,8 @@ std::string summarize_simulation(const json& m) {
   if (m.contains("gospa")) s << ", GOSPA " << m["gospa"]["distance_m"]["mean"].get<double>() << " m";
   s << ", " << m["ms_per_step"]["mean"].get<double>() << " ms/step, ESS " << m["ess_percent"].get<double>()
     << " %, resampling " << m["resampling_percent"].get<double>() << " %";
+  if (m.value("interrupted", false))
+    s << " (interrupted: " << m["runs"].get<int>() << " of " << m["runs_requested"].get<int>() << " runs)";
   return s.str();
 }
 

@@ -9,6 +9,7 @@
 // paper2019 (steering model, 360° 3 m sensor, λ_c from --clutter, default 5; one data realisation, the runs
 // differ in the filter's randomness) and phdslam3 (Environment_SLAM.mat, regenerated per run).
 #include <cstdint>
+#include <optional>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -19,21 +20,25 @@ struct SimOptions {
   std::string scenario = "paper2019";  ///< paper2019 | phdslam3 | paper004
   std::string algorithm = "glmb2";     ///< glmb2 | glmb1 | glmb_mh | phd1 | phd3 | dr | mlslam
   std::string refine;                  ///< "" or "ml": RFS-ML refinement of the filter's estimate
-  int particles = 10;
+  /// Particles per filter; unset = the config file's rbpf.particles (phd.particles for phd1/phd3), or 10.
+  std::optional<int> particles;
   int runs = 1;
-  int first_run = 0;        ///< runs first_run .. first_run + runs − 1 (run index = data realisation, seed)
-  double clutter = -1.0;    ///< λ_c (paper2019 only); < 0 = the scenario default (5)
-  std::uint64_t seed = 0;   ///< filter seed base: run r uses seed·1000003 + r
-  std::string config_file;  ///< optional YAML: children "rbpf" (load_rbpf_config), "phd" (load_phd_config),
-                            ///< "mlslam" (load_mlslam_config)
-  std::string out_dir;      ///< metrics.json and plots
-  std::string data_dir;     ///< shared data root (phdslam3); empty = $GLMBSLAM_DATA or ../shared/data
+  int first_run = 0;      ///< runs first_run .. first_run + runs − 1 (run index = data realisation, seed)
+  double clutter = -1.0;  ///< λ_c (paper2019 only); < 0 = the scenario default (5)
+  /// Filter seed base (run r uses seed·1000003 + r); unset = the config file's rbpf.seed, or 0.
+  std::optional<std::uint64_t> seed;
+  std::string config_file;    ///< optional YAML: children "rbpf" (load_rbpf_config), "phd" (load_phd_config),
+                              ///< "mlslam" (load_mlslam_config)
+  std::string out_dir;        ///< metrics.json and plots
+  std::string data_dir;       ///< shared data root (phdslam3); empty = $GLMBSLAM_DATA or ../shared/data
   std::size_t max_steps = 0;  ///< 0 = all steps (phdslam3: truncate for quick runs)
   bool plots = true;
 };
 
 /// Runs the Monte Carlo simulation and writes DIR/metrics.json (atomically) and the plots; returns the
-/// metrics. Throws ConfigError for bad options, InputError for unreadable data.
+/// metrics. Throws ConfigError for bad options, InputError for unreadable data. On SIGINT/SIGTERM
+/// (core/interrupt.hpp) no further run starts and the runs in progress stop at their next step; the metrics
+/// cover the runs that finished ("interrupted": true, "runs_requested", "run_indices").
 nlohmann::json run_simulation(const SimOptions& options);
 
 /// A one-line human summary of the metrics.
