@@ -191,9 +191,7 @@ class RfsMlSlam {
     }
   }
 
-  bool maybe_in_view(const Pose& x, const Landmark& m) const {
-    return (Model::landmark_position(m) - Model::position(x)).norm() <= p_D_.query_radius();
-  }
+  bool maybe_in_view(const Pose& x, const Landmark& m) const { return p_D_.maybe_in_view(model_, x, m); }
 
   std::vector<int> candidates_of(const Pose& x, const LandmarkList& map) const {
     std::vector<int> c;

@@ -47,6 +47,11 @@ class SmoothDetection2D {
 
   /// Landmarks farther than this from the pose have p_D < 1e-6·p_D,in (never candidates).
   double query_radius() const { return config_.max_range + 14.0 * w_r_; }
+  /// False where p_D < 1e-6·p_D,in for sure (the landmark is no candidate of the scan).
+  template <class Model>
+  bool maybe_in_view(const Model& /*model*/, const Pose2& x, const typename Model::Landmark& m) const {
+    return (Model::landmark_position(m) - Model::position(x)).norm() <= query_radius();
+  }
 
  private:
   static double logistic(double t) { return 1.0 / (1.0 + std::exp(-t)); }

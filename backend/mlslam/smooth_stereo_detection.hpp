@@ -44,6 +44,16 @@ class SmoothStereoDetection {
 
   /// Landmarks farther than this from the camera centre have p_D < 1e-6·p_D,in (never candidates).
   double query_radius() const { return radius_; }
+  /// False where p_D < 1e-6·p_D,in for sure: outside the depth range or the image by 14 widths.
+  bool maybe_in_view(const StereoMeasurementModel& model, const Pose3& x, const Eigen::Vector3d& m) const {
+    const Eigen::Vector3d p = x.linear().transpose() * (m - x.translation());
+    if (p.z() < config_.min_depth - 14.0 * w_d_ || p.z() > config_.max_depth + 14.0 * w_d_ || p.z() <= 0.0)
+      return false;
+    const Eigen::Vector3d z = model.camera().project(p);
+    const double margin = config_.border - 14.0 * w_px_;
+    return z(0) >= margin && z(0) <= model.image_width() - margin && z(1) >= margin &&
+           z(1) <= model.image_height() - margin && z(2) >= margin;
+  }
 
  private:
   static double logistic(double t) { return 1.0 / (1.0 + std::exp(-t)); }

@@ -1,0 +1,109 @@
+// End to end: `glmbslam run --refine ml` (RFS-ML refinement of the stereo filter, paper 004) on the short
+// rendered stereo clip: it writes the refined trajectory and map and a `refined` block beside `slam` and
+// `vo`, its settings come from the config's `refine` section, and it is refused where there is no filter
+// (vo).
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <unistd.h>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "app/run_options.hpp"
+#include "core/error.hpp"
+#include "core/progress.hpp"
+#include "io/trajectory_io.hpp"
+#include "support/rendered_clip.hpp"
+
+namespace glmbslam::app {
+namespace {
+
+namespace fs = std::filesystem;
+
+class StereoRefine : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    ProgressReporter::set_enabled(false);
+    clip_ = test::rendered_stereo_clip();
+    root_ = fs::temp_directory_path() / ("glmbslam_test_stereo_refine_" + std::to_string(::getpid()));
+    fs::remove_all(root_);
+    fs::create_directories(root_);
+  }
+  static void TearDownTestSuite() { fs::remove_all(root_); }
+  static RunOptions options(const std::string& out) {
+    RunOptions o;
+    o.dataset = (clip_ / "sequences" / "00").string();
+    o.out_dir = (root_ / out).string();
+    o.refine = "ml";
+    return o;
+  }
+  static fs::path root_;
+  static fs::path clip_;
+};
+fs::path StereoRefine::root_;
+fs::path StereoRefine::clip_;
+
+TEST_F(StereoRefine, WritesTheRefinedTrajectoryMapAndMetrics) {
+  const RunOptions o = options("ml");
+  ASSERT_EQ(run_stereo(o), 0);
+  std::ifstream in(fs::path(o.out_dir) / "metrics.json");
+  const nlohmann::json j = nlohmann::json::parse(in);
+  EXPECT_EQ(io::read_kitti_poses((fs::path(o.out_dir) / "trajectory_refined.txt").string()).size(),
+            test::kClipFrames);
+  EXPECT_TRUE(fs::exists(fs::path(o.out_dir) / "map_refined.pcd"));
+  EXPECT_TRUE(fs::exists(fs::path(o.out_dir) / "plots" / "refined"));
+  // the same metric keys as slam and vo
+  for (const auto& [key, value] : j["slam"].items()) EXPECT_TRUE(j["refined"].contains(key)) << key;
+  const double refined = j["refined"]["ate"]["se3_rmse_m"].get<double>();
+  const double vo = j["vo"]["ate"]["se3_rmse_m"].get<double>();
+  // the refinement maximises the likelihood of the VO controls and the measurements: it stays near the VO it
+  // starts from (a diverging solve is off by metres)
+  EXPECT_LT(refined, 1.5 * vo + 0.01) << "VO " << vo;
+  EXPECT_GT(j["refinement"]["windows"].get<double>(), 0.0);
+  EXPECT_GT(j["refinement"]["final_log_likelihood_gain"].get<double>(), 0.0);
+  EXPECT_GT(j["map"]["refined_landmarks"].get<int>(), 50);
+}
+
+TEST_F(StereoRefine, ReadsTheRefineSectionAndRejectsBadValues) {
+  const fs::path cfg = root_ / "refine.yaml";
+  RunOptions o = options("config");
+  o.refine.clear();  // enabled from the config
+  o.config_file = cfg.string();
+  o.last_frame = 8;
+  std::ofstream(cfg) << "refine:\n  enabled: true\n  window: 4\n  every: 2\n  final: false\n";
+  ASSERT_EQ(run_stereo(o), 0);
+  std::ifstream in(fs::path(o.out_dir) / "metrics.json");
+  const nlohmann::json j = nlohmann::json::parse(in);
+  EXPECT_EQ(j["refinement"]["windows"].get<double>(), 4.0);  // frames 2, 4, 6, 8
+  EXPECT_FALSE(j["refinement"].contains("final_ms"));
+  auto expect_error = [&](const std::string& yaml, const std::string& key) {
+    std::ofstream(cfg) << yaml;
+    try {
+      run_stereo(o);
+      FAIL() << "expected ConfigError for " << key;
+    } catch (const ConfigError& e) {
+      EXPECT_NE(std::string(e.what()).find(key), std::string::npos) << e.what();
+    }
+  };
+  expect_error("refine:\n  window: 1\n", "window");
+  expect_error("refine:\n  mlslam:\n    max_round: 3\n", "max_round");
+}
+
+TEST_F(StereoRefine, IsRefusedWithoutAFilter) {
+  RunOptions o = options("vo");
+  o.algorithm = "vo";
+  try {
+    run_stereo(o);
+    FAIL() << "expected ConfigError";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("vo"), std::string::npos) << e.what();
+  }
+  o.algorithm.reset();
+  o.refine = "icp";
+  EXPECT_THROW(run_stereo(o), ConfigError);
+}
+
+}  // namespace
+}  // namespace glmbslam::app
