@@ -9,6 +9,7 @@
 
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
+#include "io/mat5_structure.hpp"
 
 namespace glmbslam::io {
 
@@ -222,6 +223,7 @@ std::uintmax_t declared_bytes(const matvar_t* v) {
 
 MatFile::MatFile(const std::filesystem::path& path) : path_(path), handle_(std::make_unique<Handle>()) {
   if (!std::filesystem::is_regular_file(path)) throw InputError(path.string(), "file not found");
+  check_mat5_structure(path);  // before libmatio allocates from the sizes the file declares
   handle_->mat = Mat_Open(path.string().c_str(), MAT_ACC_RDONLY);
   if (handle_->mat == nullptr) throw InputError(path.string(), "not a readable MATLAB .mat file");
   check_declared_sizes();

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include "core/error.hpp"
+#include "io/mat5_structure.hpp"
 #include "io/mat_reader.hpp"
 #include "support/test_data.hpp"
 
@@ -86,33 +87,78 @@ TEST(MatReader, RejectsMissingAndNonMatFiles) {
     out << "not a mat file\n";
   }
   EXPECT_THROW(MatFile{text}, InputError);
+  // Regression (fuzz_mat out-of-memory, third finding): a level-4 header (no signature) whose name length
+  // is 2^31 − 1 made libmatio's level-4 fallback allocate 2 GB; level-4 files are refused.
+  const auto level4 = dir / "level4.mat";
+  {
+    const std::int32_t header[5] = {0, 1, 1, 0, 0x7FFFFFFF};  // type, rows, cols, imaginary, name length
+    std::ofstream out(level4, std::ios::binary);
+    out.write(reinterpret_cast<const char*>(header), sizeof(header));
+    out << std::string(200, 'x');
+  }
+  EXPECT_NE(error_of([&] { MatFile f(level4); }).find("not a MATLAB level-5 or 7.3"), std::string::npos);
 }
 
-// Regression (fuzz_mat out-of-memory): a header declaring dims of billions made libmatio allocate tens of
-// gigabytes before reading a byte. The header pass rejects it with a message naming the variable.
-TEST(MatReader, RejectsAHeaderDeclaringMoreDataThanTheFileHolds) {
-  const auto dir = test::fresh_temp_dir("mat_reader");
-  const auto file = dir / "huge_dims.mat";
+/// Writes a 1×2 double variable `name` to `file`, then sets the byte `offset` after the first occurrence of
+/// `pattern` to `value`; returns the reader's error message for the damaged file.
+std::string error_of_damaged(const std::filesystem::path& file, const std::string& name,
+                             const std::string& pattern, std::size_t offset, char value) {
   Eigen::MatrixXd row(1, 2);
   row << -41.7, -41.6;
-  write_mat_file(file, {MatVariable::matrix_variable("La_m", row)});
+  write_mat_file(file, {MatVariable::matrix_variable(name, row)});
   std::string bytes;
   {
     std::ifstream in(file, std::ios::binary);
     bytes.assign(std::istreambuf_iterator<char>(in), {});
   }
-  // MAT5 dimensions sub-element: miINT32 tag (type 5, 8 bytes), then dims 1 and 2.
-  const std::string dims("\x05\0\0\0\x08\0\0\0\x01\0\0\0\x02\0\0\0", 16);
-  const auto at = bytes.find(dims);
-  ASSERT_NE(at, std::string::npos);
-  bytes[at + 15] = '\x55';  // second dimension 0x55000002 ≈ 1.4e9 columns ≈ 11 GB of doubles
-  {
-    std::ofstream out(file, std::ios::binary | std::ios::trunc);
-    out << bytes;
-  }
-  const std::string message = error_of([&] { MatFile f(file); });
+  const auto at = bytes.find(pattern);
+  if (at == std::string::npos) return "pattern not found";
+  bytes[at + offset] = value;
+  std::ofstream(file, std::ios::binary | std::ios::trunc) << bytes;
+  return error_of([&] { MatFile f(file); });
+}
+
+// Regression (fuzz_mat out-of-memory): a header declaring dims of billions made libmatio allocate tens of
+// gigabytes before reading a byte. The check rejects it with a message naming the variable.
+TEST(MatReader, RejectsAHeaderDeclaringMoreDataThanTheFileHolds) {
+  const auto file = test::fresh_temp_dir("mat_reader") / "huge_dims.mat";
+  // MAT5 dimensions sub-element: miINT32 tag (type 5, 8 bytes), then dims 1 and 2; the second becomes
+  // 0x55000002 ≈ 1.4e9 columns ≈ 11 GB of doubles
+  const std::string message =
+      error_of_damaged(file, "La_m", std::string("\x05\0\0\0\x08\0\0\0\x01\0\0\0\x02\0\0\0", 16), 15, '\x55');
   EXPECT_NE(message.find("'La_m'"), std::string::npos) << message;
   EXPECT_NE(message.find("corrupt or truncated"), std::string::npos) << message;
+}
+
+// Regression (fuzz_mat out-of-memory, second finding): a dimensions tag declaring 65 544 bytes inside a
+// 72-byte array made libmatio's header read allocate 2.6 GB. The structural check rejects any element larger
+// than what contains it.
+TEST(MatReader, RejectsAnElementTagLargerThanItsArray) {
+  const auto file = test::fresh_temp_dir("mat_reader") / "huge_tag.mat";
+  // the dimensions tag's size 8 → 65 544 bytes
+  const std::string message =
+      error_of_damaged(file, "Lo_m", std::string("\x05\0\0\0\x08\0\0\0", 8), 6, '\x01');
+  EXPECT_NE(message.find("corrupt or truncated"), std::string::npos) << message;
+  EXPECT_EQ(message.rfind(file.string(), 0), 0u) << message;
+}
+
+// The structural check accepts what write_mat_file writes and the shared files (compressed and not).
+TEST(MatReader, StructureCheckAcceptsValidFiles) {
+  const auto dir = test::fresh_temp_dir("mat_reader");
+  const auto file = dir / "cells.mat";
+  write_mat_file(file,
+                 {MatVariable::matrix_variable("m", Eigen::MatrixXd::Identity(3, 4)),
+                  MatVariable::cell_variable("c", {Eigen::MatrixXd::Ones(3, 2), Eigen::MatrixXd(0, 0)})});
+  EXPECT_NO_THROW(check_mat5_structure(file));
+  const auto root = test::shared_data_dir();
+  for (const char* name :
+       {"victoria_park/aa3_dr.mat", "victoria_park/aa3_gpsx.mat",
+        "victoria_park/VictoriaParkSinSincronizar.mat", "phdslam3_synthetic/Environment_SLAM.mat",
+        "phdslam3_synthetic/Robot_Measurement.mat"}) {
+    if (std::filesystem::exists(root / name)) {
+      EXPECT_NO_THROW(check_mat5_structure(root / name)) << name;
+    }
+  }
 }
 
 TEST(MatReader, ReadsTheSharedBenchmarkFile) {
