@@ -6,7 +6,9 @@
 # it is kept in build-fuzz/artifacts/ (turn it into a regression test in tests/io or the matching folder).
 #
 # Usage: scripts/fuzz.sh [SECONDS_PER_TARGET] [TARGET...]     (default 25 s, every target)
-# Environment: GLMBSLAM_FUZZ_BUILD_DIR (default build-fuzz), JOBS (build parallelism; default nproc)
+# Environment: GLMBSLAM_FUZZ_BUILD_DIR (default build-fuzz), JOBS (build parallelism; default nproc),
+#              FUZZ_RUNS=N: instead of a time budget, N executions per target from a fixed seed (-seed=1) and
+#              the seed corpus alone: the same inputs on every machine, so a CI run is reproducible (.ci/run)
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build="${GLMBSLAM_FUZZ_BUILD_DIR:-$root/build-fuzz}"
@@ -27,10 +29,15 @@ printf '%-16s %12s %8s %8s %s\n' target executions cov ft result
 for t in "${targets[@]}"; do
   work="$build/corpus/$t"
   artifacts="$build/artifacts"
+  budget=(-max_total_time="$seconds")
+  if [ -n "${FUZZ_RUNS:-}" ]; then
+    rm -rf "$work"  # only the seed corpus: the same inputs wherever it runs
+    budget=(-runs="$FUZZ_RUNS" -seed=1)
+  fi
   mkdir -p "$work" "$artifacts"
   log="$build/fuzz_$t.log"
   result=ok
-  if ! "$build/fuzz/fuzz_$t" "$work" "$root/fuzz/corpus/$t" -max_total_time="$seconds" -timeout=10 \
+  if ! "$build/fuzz/fuzz_$t" "$work" "$root/fuzz/corpus/$t" "${budget[@]}" -timeout=10 \
     -rss_limit_mb=2048 -max_len=65536 -print_final_stats=1 -artifact_prefix="$artifacts/$t-" >"$log" 2>&1; then
     result="FAILED (see $log)"
     status=1

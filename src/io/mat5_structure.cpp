@@ -78,7 +78,11 @@ class Walker {
     const Element flags = element(buf, len, 0, "an array");
     if (flags.type != kMiUint32 || flags.size != 8) fail("an array's flags are not two miUINT32 values");
     const std::uint32_t array_class = u32(flags.data) & 0xFFu;
-    if (array_class > 15) return;  // opaque objects (function handles, classdef): another layout
+    if (array_class == 0 || array_class > 17)
+      fail("an array has the unknown class " + std::to_string(array_class));
+    // function handles and classdef objects have another layout, which libmatio cannot bound either
+    if (array_class > 15)
+      fail("an array is a MATLAB function handle or object, which glmbslam does not read");
     const std::uint64_t nzmax = u32(flags.data + 4);
     const Element dims = element(buf, len, flags.next, "an array");
     if (dims.type != kMiInt32 || dims.size < 8 || dims.size % 4 != 0)

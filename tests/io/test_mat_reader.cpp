@@ -142,6 +142,16 @@ TEST(MatReader, RejectsAnElementTagLargerThanItsArray) {
   EXPECT_EQ(message.rfind(file.string(), 0), 0u) << message;
 }
 
+// Regression (fuzz_mat out-of-memory, fourth finding): an array of unknown class 42 with dims of 10^7 made
+// libmatio allocate 1.8 GB while reading the headers.
+TEST(MatReader, RejectsAnArrayOfUnknownClass) {
+  const auto file = test::fresh_temp_dir("mat_reader") / "bad_class.mat";
+  // array flags: miUINT32 tag (type 6, 8 bytes), then the class byte (6 = double) → 42
+  const std::string message =
+      error_of_damaged(file, "timeGps", std::string("\x06\0\0\0\x08\0\0\0\x06", 9), 8, '\x2a');
+  EXPECT_NE(message.find("unknown class 42"), std::string::npos) << message;
+}
+
 // The structural check accepts what write_mat_file writes and the shared files (compressed and not).
 TEST(MatReader, StructureCheckAcceptsValidFiles) {
   const auto dir = test::fresh_temp_dir("mat_reader");
