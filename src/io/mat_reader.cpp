@@ -187,8 +187,9 @@ namespace {
 constexpr std::uintmax_t kMaxInflation = 1032;
 constexpr std::uintmax_t kInflationAllowance = std::uintmax_t{1} << 20;
 
-/// Bytes the variable declares (its dims times its element size, summed over cells and struct fields);
-/// saturates at UINTMAX_MAX on overflow so a hostile header cannot wrap around.
+/// Bytes the variable declares (its dims times its element size; 8 bytes, the smallest tag, per element of a
+/// cell or struct array, whose contents io/mat5_structure.hpp checks); saturates at UINTMAX_MAX on overflow
+/// so a hostile header cannot wrap around.
 std::uintmax_t declared_bytes(const matvar_t* v) {
   constexpr std::uintmax_t kMax = UINTMAX_MAX;
   std::uintmax_t elements = 1;
@@ -197,25 +198,12 @@ std::uintmax_t declared_bytes(const matvar_t* v) {
     if (d != 0 && elements > kMax / d) return kMax;
     elements *= d;
   }
-  if (v->class_type == MAT_C_CELL || v->class_type == MAT_C_STRUCT) {
-    // every element of a container carries at least an 8-byte tag in the file
-    std::uintmax_t total = elements > kMax / 8 ? kMax : elements * 8;
-    auto* const* children = static_cast<matvar_t* const*>(v->data);
-    std::uintmax_t count = elements;
-    if (v->class_type == MAT_C_STRUCT) {
-      const unsigned fields = Mat_VarGetNumberOfFields(const_cast<matvar_t*>(v));
-      count = fields != 0 && elements > kMax / fields ? kMax : elements * fields;
-    }
-    for (std::uintmax_t i = 0; children != nullptr && i < count && total < kMax; ++i) {
-      if (children[i] == nullptr) continue;
-      const std::uintmax_t child = declared_bytes(children[i]);
-      total = child > kMax - total ? kMax : total + child;
-    }
-    return total;
+  std::uintmax_t element_size = 8;
+  if (v->class_type != MAT_C_CELL && v->class_type != MAT_C_STRUCT) {
+    element_size = Mat_SizeOfClass(v->class_type);
+    if (element_size == 0) element_size = 1;
+    if (v->isComplex != 0) element_size *= 2;
   }
-  std::uintmax_t element_size = Mat_SizeOfClass(v->class_type);
-  if (element_size == 0) element_size = 1;
-  if (v->isComplex != 0) element_size *= 2;
   return elements > kMax / element_size ? kMax : elements * element_size;
 }
 
