@@ -45,6 +45,7 @@
 #include "backend/glmb/glmb_map.hpp"
 #include "backend/rbpf/mh_proposal_config.hpp"
 #include "backend/rbpf/murty.hpp"
+#include "backend/rbpf/pose_mixture.hpp"
 #include "core/gaussian.hpp"
 #include "core/log_math.hpp"
 #include "core/random.hpp"
@@ -327,21 +328,12 @@ class MhProposal {
 
   /// t ~ Categorical(κ̃), x ~ N(μ^t, Σ^t).
   State sample(const Result& q, RandomStream& rng) const {
-    double u = rng.uniform();
-    std::size_t c = 0;
-    for (; c + 1 < q.components.size(); ++c) {
-      u -= std::exp(q.components[c].log_weight);
-      if (u < 0.0) break;
-    }
-    return Motion::retract(q.components[c].mean, rng.gaussian<kDim>(Tangent::Zero(), q.components[c].cov));
+    return draw_from_pose_mixture<Motion>(q.components, rng);
   }
 
   /// log q(x) = log Σ_t κ̃^t N(x ⊖ μ^t; 0, Σ^t).
   double log_density(const Result& q, const State& x) const {
-    double s = kLogZero;
-    for (const auto& c : q.components)
-      s = log_add(s, c.log_weight + log_gaussian(Motion::local(x, c.mean), c.cov));
-    return s;
+    return log_pose_mixture_density<Motion>(q.components, x);
   }
 
   /// The mixture mean Σ_t κ̃^t μ^t, taken in the tangent space at the highest-weight component's mean.

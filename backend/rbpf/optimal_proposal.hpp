@@ -43,6 +43,7 @@
 #include "backend/glmb/gibbs_sampler.hpp"
 #include "backend/glmb/glmb_map.hpp"
 #include "backend/glmb/llt_solve.hpp"
+#include "backend/rbpf/pose_mixture.hpp"
 #include "backend/rbpf/rbpf_config.hpp"
 #include "core/error.hpp"
 #include "core/gaussian.hpp"
@@ -132,22 +133,13 @@ class OptimalProposal {
   State sample(const Result& q, RandomStream& rng) const {
     if (use_mean_) return q.mean;
     if (!q.mixture) return Motion::retract(q.mean, rng.gaussian<kDim>(Tangent::Zero(), q.cov));
-    double u = rng.uniform();
-    std::size_t c = 0;
-    for (; c + 1 < q.components.size(); ++c) {
-      u -= std::exp(q.components[c].log_weight);
-      if (u < 0.0) break;
-    }
-    return Motion::retract(q.components[c].mean, rng.gaussian<kDim>(Tangent::Zero(), q.components[c].cov));
+    return draw_from_pose_mixture<Motion>(q.components, rng);
   }
 
   /// log q(x).
   double log_density(const Result& q, const State& x) const {
     if (!q.mixture) return log_gaussian(Motion::local(x, q.mean), q.cov);
-    double s = kLogZero;
-    for (const auto& c : q.components)
-      s = log_add(s, c.log_weight + log_gaussian(Motion::local(x, c.mean), c.cov));
-    return s;
+    return log_pose_mixture_density<Motion>(q.components, x);
   }
 
  private:
