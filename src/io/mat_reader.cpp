@@ -180,67 +180,11 @@ struct MatFile::Handle {
   }
 };
 
-namespace {
-
-// zlib's largest expansion is about 1032:1; a compressed variable may hold at most this many bytes per byte
-// of file (plus a small allowance for tiny files).
-constexpr std::uintmax_t kMaxInflation = 1032;
-constexpr std::uintmax_t kInflationAllowance = std::uintmax_t{1} << 20;
-
-/// Bytes the variable declares (its dims times its element size; 8 bytes, the smallest tag, per element of a
-/// cell or struct array, whose contents io/mat5_structure.hpp checks); saturates at UINTMAX_MAX on overflow
-/// so a hostile header cannot wrap around.
-std::uintmax_t declared_bytes(const matvar_t* v) {
-  constexpr std::uintmax_t kMax = UINTMAX_MAX;
-  std::uintmax_t elements = 1;
-  for (int i = 0; i < v->rank; ++i) {
-    const std::uintmax_t d = v->dims[i];
-    if (d != 0 && elements > kMax / d) return kMax;
-    elements *= d;
-  }
-  std::uintmax_t element_size = 8;
-  if (v->class_type != MAT_C_CELL && v->class_type != MAT_C_STRUCT) {
-    element_size = Mat_SizeOfClass(v->class_type);
-    if (element_size == 0) element_size = 1;
-    if (v->isComplex != 0) element_size *= 2;
-  }
-  return elements > kMax / element_size ? kMax : elements * element_size;
-}
-
-}  // namespace
-
 MatFile::MatFile(const std::filesystem::path& path) : path_(path), handle_(std::make_unique<Handle>()) {
   if (!std::filesystem::is_regular_file(path)) throw InputError(path.string(), "file not found");
   check_mat5_structure(path);  // before libmatio allocates from the sizes the file declares
   handle_->mat = Mat_Open(path.string().c_str(), MAT_ACC_RDONLY);
   if (handle_->mat == nullptr) throw InputError(path.string(), "not a readable MATLAB .mat file");
-  check_declared_sizes();
-}
-
-// libmatio allocates a variable's data from the dimensions its header declares before it reads a byte of it,
-// so a corrupt or truncated header (dims of 10^10) would make it ask for gigabytes. One pass over the headers
-// (Mat_VarReadNextInfo reads no data) rejects any variable declaring more data than the file can hold.
-void MatFile::check_declared_sizes() const {
-  const std::uintmax_t file_size = std::filesystem::file_size(path_);
-  Mat_Rewind(handle_->mat);
-  names_.clear();
-  while (matvar_t* info = Mat_VarReadNextInfo(handle_->mat)) {
-    VarPtr guard(info);
-    const std::string name = info->name != nullptr ? info->name : std::string("(unnamed)");
-    const std::uintmax_t limit = info->compression == MAT_COMPRESSION_NONE
-                                     ? file_size
-                                     : file_size * kMaxInflation + kInflationAllowance;
-    const std::uintmax_t declared = declared_bytes(info);
-    if (declared > limit) {
-      throw InputError(path_.string(), "variable '" + name + "' declares shape " + shape_string(info) + " (" +
-                                           std::to_string(declared) + " bytes), more than the " +
-                                           std::to_string(file_size) +
-                                           "-byte file can hold: the file is corrupt or truncated");
-    }
-    if (info->name != nullptr) names_.emplace_back(info->name);
-  }
-  Mat_Rewind(handle_->mat);
-  handle_->names_done = true;
 }
 
 MatFile::~MatFile() = default;

@@ -16,8 +16,8 @@ inline constexpr Eigen::Index kAnySize = -1;
 
 class MatFile {
  public:
-  /// Opens the file read-only; throws InputError if it is missing, not a MATLAB file, or a variable header
-  /// declares more data than the file can hold (corrupt or truncated file).
+  /// Opens the file read-only; throws InputError if it is missing, not a MATLAB level-5 or 7.3 file, or its
+  /// structure is inconsistent (corrupt or truncated: io/mat5_structure.hpp).
   explicit MatFile(const std::filesystem::path& path);
   ~MatFile();
   MatFile(const MatFile&) = delete;
@@ -52,9 +52,7 @@ class MatFile {
 
  private:
   std::filesystem::path path_;
-  mutable std::vector<std::string> names_;  ///< filled by the header pass of the constructor
-
-  void check_declared_sizes() const;
+  mutable std::vector<std::string> names_;  ///< filled by the first variable_names()
 
  public:
   struct Handle;  ///< libmatio state and the variables read so far (mat_reader.cpp)
