@@ -16,7 +16,7 @@ struct OrbConfig {
   int min_fast_threshold = 7;  ///< FAST threshold re-run in the cells where the first found nothing
   int cell_size = 35;          ///< grid cell size in pixels of each level
   int edge_threshold = 19;     ///< keypoints closer than this to the border of their level are not detected
-  bool parallel = true;        ///< extract the left and right image concurrently (std::async)
+  bool parallel = true;        ///< extract the left and right image concurrently (a persistent worker thread)
 };
 
 /// Stereo matching along rectified rows.

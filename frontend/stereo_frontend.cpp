@@ -12,7 +12,8 @@ StereoFrontend::StereoFrontend(const StereoCalibration& calibration, const Front
     : config_(config),
       left_extractor_(config.orb),
       right_extractor_(config.orb),
-      matcher_(StereoCamera(calibration), config.stereo, left_extractor_.scales()) {}
+      matcher_(StereoCamera(calibration), config.stereo, left_extractor_.scales()),
+      right_worker_(config.orb.parallel ? std::make_shared<WorkerThread>() : nullptr) {}
 
 StereoFrameFeatures StereoFrontend::process(const cv::Mat& left, const cv::Mat& right) const {
   if (!left.empty() && !right.empty() && left.size() != right.size()) {
@@ -22,8 +23,8 @@ StereoFrameFeatures StereoFrontend::process(const cv::Mat& left, const cv::Mat& 
   }
   StereoFrameFeatures f;
   Stopwatch sw;
-  if (config_.orb.parallel && !left.empty() && !right.empty()) {
-    auto right_job = std::async(std::launch::async, [&] { return right_extractor_.extract(right); });
+  if (right_worker_ && !left.empty() && !right.empty()) {
+    auto right_job = right_worker_->submit([&] { return right_extractor_.extract(right); });
     f.left = left_extractor_.extract(left);
     f.right = right_job.get();
   } else {

@@ -1,8 +1,11 @@
 #pragma once
 // Facade of the stereo frontend: ORB on both images (concurrently), stereo matching and triangulation.
+#include <memory>
+
 #include <opencv2/core.hpp>
 
 #include "core/types.hpp"
+#include "core/worker_thread.hpp"
 #include "frontend/frontend_config.hpp"
 #include "frontend/orb_extractor.hpp"
 #include "frontend/stereo_matcher.hpp"
@@ -37,6 +40,9 @@ class StereoFrontend {
   OrbExtractor left_extractor_;
   OrbExtractor right_extractor_;
   StereoMatcher matcher_;
+  /// With config.orb.parallel: the persistent thread that extracts the right image while the caller extracts
+  /// the left one (shared by copies; jobs are queued, so concurrent callers stay correct).
+  std::shared_ptr<WorkerThread> right_worker_;
 };
 
 }  // namespace glmbslam::frontend

@@ -9,7 +9,11 @@ namespace glmbslam::app {
 
 FrameSource::FrameSource(const io::StereoDataset& dataset, const frontend::StereoFrontend& frontend,
                          std::size_t first, std::size_t last, bool overlap)
-    : dataset_(dataset), frontend_(frontend), next_(first), last_(last), overlap_(overlap) {}
+    : dataset_(dataset),
+      frontend_(frontend),
+      next_(first),
+      last_(last),
+      worker_(overlap ? std::make_unique<WorkerThread>() : nullptr) {}
 
 FrameSource::~FrameSource() {
   if (ahead_.valid()) ahead_.wait();  // never leave a worker reading through a dangling reference
@@ -35,8 +39,8 @@ FrameWork FrameSource::process(std::size_t index) const {
 FrameWork FrameSource::next() {
   const std::size_t index = next_++;
   FrameWork work = ahead_.valid() ? ahead_.get() : process(index);
-  if (overlap_ && next_ < last_) {
-    ahead_ = std::async(std::launch::async, [this, i = next_] { return process(i); });
+  if (worker_ && next_ < last_) {
+    ahead_ = worker_->submit([this, i = next_] { return process(i); });
   }
   return work;
 }

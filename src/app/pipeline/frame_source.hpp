@@ -1,12 +1,15 @@
 #pragma once
 // Stage 1 of the stereo pipeline (reader → frontend): loads the frames of a range in order and runs the
-// stereo frontend on them (ORB, stereo matching, triangulation), the next frame computed on another thread
-// while the caller works on the current one. A frame that cannot be read is returned with its error instead
-// of the features: the pipeline bridges it.
+// stereo frontend on them (ORB, stereo matching, triangulation), the next frame computed on a persistent
+// worker thread (core/worker_thread.hpp: one thread for the whole run, not one per frame) while the caller
+// works on the current one. A frame that cannot be read is returned with its error instead of the features:
+// the pipeline bridges it.
 #include <cstddef>
 #include <future>
+#include <memory>
 #include <string>
 
+#include "core/worker_thread.hpp"
 #include "frontend/stereo_frontend.hpp"
 #include "io/stereo_dataset.hpp"
 
@@ -41,7 +44,7 @@ class FrameSource {
   const io::StereoDataset& dataset_;
   const frontend::StereoFrontend& frontend_;
   std::size_t next_, last_;
-  bool overlap_;
+  std::unique_ptr<WorkerThread> worker_;  ///< with overlap: computes the frame ahead
   std::future<FrameWork> ahead_;
 };
 
