@@ -162,6 +162,18 @@ PoseRefinementResult initial_result(const std::vector<TrackedPoint>& points, con
   return result;
 }
 
+/// χ² of every point at T (whitening refreshed there for all of them, the active ones unchanged).
+std::vector<double> all_chi2(WhitenedModel& model, const Pose3& T) {
+  const std::vector<char> all(model.size(), 1);
+  model.update_whitening(T, all);
+  std::vector<double> chi2(model.size(), std::nan(""));
+  Eigen::Vector3d r;
+  for (std::size_t i = 0; i < model.size(); ++i) {
+    if (model.residual(i, T, &r, nullptr)) chi2[i] = r.squaredNorm();
+  }
+  return chi2;
+}
+
 /// Covariance = H⁻¹ if H (6×6 information) is well conditioned; false otherwise.
 bool invert_information(Matrix6d H, Matrix6d* covariance) {
   symmetrize(H);
@@ -291,6 +303,7 @@ PoseRefinementResult refine_ceres(const StereoCamera& camera, const std::vector<
   result.inliers = lin.used;
   if (lin.used < 4) return result;
   result.success = invert_information(lin.H, &result.covariance);
+  result.chi2 = all_chi2(model, result.T_ref_cur);
   return result;
 }
 
@@ -335,6 +348,7 @@ PoseRefinementResult refine_gauss_newton(const StereoCamera& camera, const std::
   result.inliers = lin.used;
   if (lin.used < 4) return result;
   result.success = invert_information(lin.H, &result.covariance);
+  result.chi2 = all_chi2(model, result.T_ref_cur);
   return result;
 }
 

@@ -57,6 +57,9 @@ struct PoseRefinementResult {
   Pose3 T_ref_cur = Pose3::Identity();
   Matrix6d covariance = Matrix6d::Identity();
   std::vector<char> inlier;  ///< per tracked point (1 = kept in the last round)
+  /// per tracked point: eᵀ S⁻¹ e at the solution (whitening refreshed there), inliers and rejected points
+  /// alike; NaN for a point behind the current camera. Empty if the refinement did not reach a solution.
+  std::vector<double> chi2;
   int inliers = 0;
   bool success = false;  ///< false if too few points or a degenerate information matrix
 };

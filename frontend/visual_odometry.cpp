@@ -37,8 +37,30 @@ std::string to_string(VoStatus status) {
 }
 
 StereoVisualOdometry::StereoVisualOdometry(const StereoCamera& camera, const VoConfig& config,
-                                           std::vector<double> scales)
-    : camera_(camera), config_(config), scales_(std::move(scales)) {}
+                                           std::vector<double> scales, const PixelNoiseOptions& noise)
+    : camera_(camera), config_(config), scales_(std::move(scales)), noise_(noise) {}
+
+void StereoVisualOdometry::estimate_noise(const std::vector<TrackedPoint>& tracked,
+                                          const std::vector<int>& octaves, const PoseRefinementResult& res) {
+  if (res.chi2.size() != tracked.size()) return;
+  std::vector<double> unit_chi2;
+  std::vector<double> flow;
+  int fit_dimensions = 0;
+  for (std::size_t i = 0; i < tracked.size(); ++i) {
+    const TrackedPoint& t = tracked[i];
+    if (res.inlier[i]) fit_dimensions += t.cur_stereo ? 3 : 2;
+    // level-0 stereo points on both frames: the noise the backend's model describes, one σ for both
+    if (!t.cur_stereo || octaves[i] != 0 || !std::isfinite(res.chi2[i])) continue;
+    unit_chi2.push_back(res.chi2[i] * t.sigma_ref * t.sigma_ref);
+    flow.push_back((t.z_cur.head<2>() - t.z_ref.head<2>()).norm());
+  }
+  if (flow.empty()) return;
+  const auto mid = flow.begin() + static_cast<std::ptrdiff_t>(flow.size() / 2);
+  std::nth_element(flow.begin(), mid, flow.end());
+  const bool used = noise_.add_frame(unit_chi2, fit_dimensions, *mid);
+  spdlog::debug("vo: frame {}: {} level-0 residuals, median motion {:.1f} px{}, keypoint sigma {:.3f} px",
+                frames_ - 1, unit_chi2.size(), *mid, used ? "" : " (not used)", noise_.sigma());
+}
 
 bool StereoVisualOdometry::pnp_ransac(const StereoFrameFeatures& frame, const std::vector<Match>& matches,
                                       std::size_t k, cv::Mat& rvec, cv::Mat& tvec,
@@ -109,6 +131,7 @@ VoEstimate StereoVisualOdometry::skip_frame(VoStatus reason, double timestamp) {
     previous_time_ = timestamp;
   }
   spdlog::warn("vo: frame {}: {} → constant-velocity fallback", frames_ - 1, to_string(reason));
+  e.pixel_sigma = noise_.sigma();
   e.ms = sw.elapsed_ms();
   return e;
 }
@@ -218,6 +241,7 @@ VoEstimate StereoVisualOdometry::track(const StereoFrameFeatures& frame, double 
   ++frames_;
   const std::size_t k = frames_ - 1;
   auto finish = [&](VoEstimate e) {
+    e.pixel_sigma = noise_.sigma();
     e.ms = sw.elapsed_ms();
     return e;
   };
@@ -301,6 +325,7 @@ VoEstimate StereoVisualOdometry::track(const StereoFrameFeatures& frame, double 
   // Two-view stereo bundle adjustment.
   std::vector<TrackedPoint> tracked;
   std::vector<int> tracked_ref, tracked_cur;  // per point: previous measurement, current one (−1: mono)
+  std::vector<int> octaves;                   // per point: the higher of its two keypoints' levels
   tracked.reserve(matches.size());
   tracked_ref.reserve(matches.size());
   tracked_cur.reserve(matches.size());
@@ -329,6 +354,7 @@ VoEstimate StereoVisualOdometry::track(const StereoFrameFeatures& frame, double 
     tracked.push_back(t);
     tracked_ref.push_back(matches[i].ref);
     tracked_cur.push_back(mi);
+    octaves.push_back(std::max(r.octave, kp.octave));
   }
   const PoseRefinementOptions opt = pose_refinement_options(config_);
   const PoseRefinementResult res = refine_stereo_pose(camera_, tracked, T_ref_cur, opt);
@@ -341,6 +367,7 @@ VoEstimate StereoVisualOdometry::track(const StereoFrameFeatures& frame, double 
     return finish(e);
   }
 
+  estimate_noise(tracked, octaves, res);
   VoEstimate e;
   e.status = VoStatus::kTracked;
   e.relative_pose = T_ref_prev_.inverse() * res.T_ref_cur;

@@ -58,7 +58,7 @@ class StereoMeasurementModel {
   StereoMeasurementModel() = default;
   StereoMeasurementModel(const StereoCalibration& calib, const StereoMeasurementConfig& c)
       : camera_(calib), width_(calib.width), height_(calib.height), config_(c) {
-    R_ = Eigen::Matrix3d::Identity() * c.pixel_sigma * c.pixel_sigma;
+    set_pixel_sigma(c.pixel_sigma);
     const double disparity_range = camera_.bf() / c.min_depth - camera_.bf() / c.max_depth;
     const double volume = std::max(1.0, (width_ - 2 * c.border) * (height_ - 2 * c.border) * disparity_range);
     log_kappa_ = c.clutter_rate > 0.0 ? std::log(c.clutter_rate / volume) : std::log(1e-300);
@@ -75,7 +75,10 @@ class StereoMeasurementModel {
   }
 
   Measurement residual(const Measurement& z, const Measurement& zhat) const { return z - zhat; }
-  const MeasurementCovariance& noise() const { return R_; }
+  const MeasurementCovariance& noise() const { return *R_; }
+  /// Sets σ of R = σ² I for the next filter steps (a per-sequence estimate; copies of this model share it, as
+  /// they share the appearance). Landmarks already mapped keep their covariances.
+  void set_pixel_sigma(double sigma) const { *R_ = Eigen::Matrix3d::Identity() * sigma * sigma; }
 
   bool in_field_of_view(const Pose& x, const Landmark& m) const {
     const Eigen::Vector3d p = x.linear().transpose() * (m - x.translation());
@@ -99,7 +102,7 @@ class StereoMeasurementModel {
     const Eigen::Matrix3d J = camera_.triangulate_jacobian(z);
     const Eigen::Matrix3d Rwc = x.linear();
     *m = x * p;
-    *P = Rwc * (J * R_ * J.transpose()) * Rwc.transpose();
+    *P = Rwc * (J * *R_ * J.transpose()) * Rwc.transpose();
     P->diagonal().array() += 1e-9;
   }
 
@@ -132,7 +135,8 @@ class StereoMeasurementModel {
   double width_ = 0.0;
   double height_ = 0.0;
   StereoMeasurementConfig config_;
-  MeasurementCovariance R_ = Eigen::Matrix3d::Identity();
+  std::shared_ptr<MeasurementCovariance> R_ =
+      std::make_shared<MeasurementCovariance>(Eigen::Matrix3d::Identity());
   double log_kappa_ = 0.0;
   std::shared_ptr<std::vector<Appearance>> appearance_ = std::make_shared<std::vector<Appearance>>();
 };

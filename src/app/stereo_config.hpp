@@ -19,6 +19,7 @@
 #include "backend/models/stereo_measurement_model.hpp"
 #include "backend/rbpf/rbpf_config.hpp"
 #include "frontend/frontend_config.hpp"
+#include "frontend/pixel_noise_estimator.hpp"
 
 namespace glmbslam::app {
 
@@ -43,15 +44,29 @@ struct PipelineSettings {
   std::string trajectory_estimate = "proposal_mean";
 };
 
+/// `measurement.pixel_sigma: auto` (the default): the backend's keypoint noise σ follows the sequence's,
+/// estimated online from the visual odometry's residuals (frontend/pixel_noise_estimator.hpp) and clamped to
+/// [pixel_sigma_floor, pixel_sigma_ceiling]. A number fixes σ. The VO weighs its residuals with
+/// frontend.stereo.pixel_sigma either way.
+struct PixelSigmaSettings {
+  bool automatic = true;
+  double floor = 0.3;    ///< measurement.pixel_sigma_floor (px)
+  double ceiling = 2.0;  ///< measurement.pixel_sigma_ceiling (px)
+};
+
 struct StereoConfig {
   frontend::FrontendConfig frontend;
   backend::Se3MotionConfig motion;
-  backend::StereoMeasurementConfig measurement;
+  backend::StereoMeasurementConfig measurement;  ///< pixel_sigma: the fixed σ, or the start of `auto`
+  PixelSigmaSettings pixel_sigma;
   backend::RbpfConfig rbpf;
   backend::LmbConfig lmb;
   PipelineSettings pipeline;
   RefineSettings refine;
 };
+
+/// The noise estimator's settings of `config` (the fixed σ as its initial value, floor, ceiling).
+frontend::PixelNoiseOptions pixel_noise_options(const StereoConfig& config);
 
 /// Defaults for the stereo pipeline (KITTI, paper 000's 20 m range, 10 particles).
 StereoConfig default_stereo_config();

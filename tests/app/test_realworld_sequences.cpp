@@ -89,8 +89,11 @@ TEST_F(RealWorldSequences, StillCameraUnderAWideControlCovariance) {
     EXPECT_LT(path[k].translation().norm(), 0.03) << "frame " << k;
 }
 
-// A drive that stops for 20 frames: the SLAM holds still while stopped (within 1 cm a frame) and stays within
-// the bound of the clean clip (test_stereo_run.cpp: 0.25 m over a few dozen frames).
+// A drive that stops for 20 frames: the SLAM holds still while stopped (within 1 cm a frame), stays within
+// the bound of the clean clip (test_stereo_run.cpp: 0.25 m over a few dozen frames) and is not worse than its
+// VO. The backend's keypoint noise is the sequence's own (measurement.pixel_sigma auto: estimated from the
+// VO's residuals; the still frames are not used for it): SLAM ATE 0.021 m vs VO 0.025 m (0.019 m at a
+// fixed 1 px).
 TEST_F(RealWorldSequences, StopAndGo) {
   const PoseList drive = sim::default_trajectory(10.0);
   PoseList poses(drive.begin(), drive.begin() + 15);
@@ -103,6 +106,7 @@ TEST_F(RealWorldSequences, StopAndGo) {
   for (std::size_t k = 15; k < 34; ++k)
     EXPECT_LT((path[k + 1].translation() - path[k].translation()).norm(), 0.01) << "stopped frame " << k;
   EXPECT_LT(j["slam"]["ate"]["se3_rmse_m"].get<double>(), 0.25);
+  EXPECT_LE(j["slam"]["ate"]["se3_rmse_m"].get<double>(), j["vo"]["ate"]["se3_rmse_m"].get<double>());
   EXPECT_EQ(j["filter"]["vo_fallback_frames"].get<int>(), 0);
 }
 

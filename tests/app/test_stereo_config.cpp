@@ -19,6 +19,9 @@ void expect_same(const StereoConfig& a, const StereoConfig& b, const std::string
   EXPECT_EQ(a.motion.min_sigma_translation, b.motion.min_sigma_translation);
   EXPECT_EQ(a.motion.min_sigma_rotation, b.motion.min_sigma_rotation);
   EXPECT_EQ(a.measurement.pixel_sigma, b.measurement.pixel_sigma);
+  EXPECT_EQ(a.pixel_sigma.automatic, b.pixel_sigma.automatic);
+  EXPECT_EQ(a.pixel_sigma.floor, b.pixel_sigma.floor);
+  EXPECT_EQ(a.pixel_sigma.ceiling, b.pixel_sigma.ceiling);
   EXPECT_EQ(a.measurement.min_depth, b.measurement.min_depth);
   EXPECT_EQ(a.measurement.max_depth, b.measurement.max_depth);
   EXPECT_EQ(a.measurement.border, b.measurement.border);
@@ -79,6 +82,38 @@ TEST(StereoConfig, UnknownKeysWrongTypesAndBadRangesAreErrorsNamingTheKey) {
   expect_error("pipeline:\n  algorithm: glmb3\n", "algorithm");
   expect_error("pipline:\n  algorithm: glmb1\n", "pipline");
   expect_error("frontend:\n  orb:\n    featurs: 10\n", "featurs");
+  expect_error("measurement:\n  pixel_sigma: automatic\n", "pixel_sigma");
+  expect_error("measurement:\n  pixel_sigma: 0.5px\n", "pixel_sigma");
+  expect_error("measurement:\n  pixel_sigma: 0\n", "pixel_sigma");
+  expect_error("measurement:\n  pixel_sigma: [1]\n", "pixel_sigma");
+  expect_error("measurement:\n  pixel_sigma_floor: -1\n", "pixel_sigma_floor");
+  expect_error("measurement:\n  pixel_sigma_floor: 1.5\n  pixel_sigma_ceiling: 1\n", "pixel_sigma_ceiling");
+}
+
+// measurement.pixel_sigma: `auto` (the default: estimated per sequence, between the floor and the ceiling) or
+// a fixed number of pixels.
+TEST(StereoConfig, PixelSigmaIsAutoOrANumber) {
+  const StereoConfig d = default_stereo_config();
+  EXPECT_TRUE(d.pixel_sigma.automatic);
+  EXPECT_EQ(d.measurement.pixel_sigma, 1.0);  // the estimate's starting value
+  EXPECT_EQ(d.pixel_sigma.floor, 0.3);
+  EXPECT_EQ(d.pixel_sigma.ceiling, 2.0);
+  const StereoConfig a = parse_stereo_config(
+      YAML::Load("measurement:\n  pixel_sigma: auto\n  pixel_sigma_floor: 0.5\n  pixel_sigma_ceiling: 1.5\n"),
+      "test.yaml");
+  EXPECT_TRUE(a.pixel_sigma.automatic);
+  EXPECT_EQ(a.pixel_sigma.floor, 0.5);
+  EXPECT_EQ(a.pixel_sigma.ceiling, 1.5);
+  const frontend::PixelNoiseOptions o = pixel_noise_options(a);
+  EXPECT_EQ(o.initial, 1.0);
+  EXPECT_EQ(o.floor, 0.5);
+  EXPECT_EQ(o.ceiling, 1.5);
+  const StereoConfig f = parse_stereo_config(YAML::Load("measurement:\n  pixel_sigma: 0.7\n"), "test.yaml");
+  EXPECT_FALSE(f.pixel_sigma.automatic);
+  EXPECT_EQ(f.measurement.pixel_sigma, 0.7);
+  const StereoConfig i = parse_stereo_config(YAML::Load("measurement:\n  pixel_sigma: 2\n"), "test.yaml");
+  EXPECT_FALSE(i.pixel_sigma.automatic);
+  EXPECT_EQ(i.measurement.pixel_sigma, 2.0);
 }
 
 TEST(StereoConfig, ValuesOverrideDefaults) {

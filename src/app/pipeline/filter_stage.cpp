@@ -121,6 +121,7 @@ const FilterStep& FilterStage::step(const FrameWork& work, const frontend::VoEst
       model_.set_measurement_appearance(std::move(descriptors));
     }
   }
+  if (config_.pixel_sigma.automatic) model_.set_pixel_sigma(vo_estimate.pixel_sigma);  // the sequence's σ
   step_.control.delta = control.relative_pose;
   step_.control.covariance = control.covariance;
   Stopwatch watch;

@@ -17,7 +17,7 @@ StereoPipeline::StereoPipeline(const io::StereoDataset& dataset, const StereoCal
       last_(last),
       use_backend_(config.pipeline.algorithm != "vo"),
       frontend_(calibration, config.frontend),
-      vo_(frontend_, config.frontend.vo) {
+      vo_(frontend_, config.frontend.vo, pixel_noise_options(config)) {
   if (use_backend_) filter_.emplace(config, calibration);
 }
 
@@ -70,6 +70,10 @@ void StereoPipeline::run(RunRecord& record, const std::function<bool()>& stop) {
     spdlog::info("VO fell back to constant velocity on {} frames ({} could not be loaded)",
                  vo_.fallbacks() + vo_.missing(), vo_.missing());
   }
+  const frontend::PixelNoiseEstimator& noise = vo_.odometry().pixel_noise();
+  spdlog::info("keypoint noise estimated from the VO residuals: sigma {:.3f} px ({} samples){}",
+               noise.raw_sigma(), noise.samples(),
+               config_.pixel_sigma.automatic ? "" : ", not used (measurement.pixel_sigma is fixed)");
   if (filter_) {
     record.slam_poses = filter_->trajectory();  // step 0 is the first frame (identity), then one per frame
     record.map = filter_->map_points();

@@ -4,8 +4,9 @@
 
 namespace glmbslam::app {
 
-VoStage::VoStage(const frontend::StereoFrontend& frontend, const frontend::VoConfig& config)
-    : vo_(frontend.camera(), config, frontend.extractor().scales()) {}
+VoStage::VoStage(const frontend::StereoFrontend& frontend, const frontend::VoConfig& config,
+                 const frontend::PixelNoiseOptions& noise)
+    : vo_(frontend.camera(), config, frontend.extractor().scales(), noise) {}
 
 const frontend::VoEstimate& VoStage::track(const FrameWork& work, std::size_t k) {
   if (!work.loaded) {

@@ -11,7 +11,9 @@ namespace glmbslam::app {
 
 class VoStage {
  public:
-  VoStage(const frontend::StereoFrontend& frontend, const frontend::VoConfig& config);
+  /// `noise`: the settings of the VO's keypoint noise estimate (VoEstimate::pixel_sigma).
+  VoStage(const frontend::StereoFrontend& frontend, const frontend::VoConfig& config,
+          const frontend::PixelNoiseOptions& noise = {});
 
   /// Tracks frame `work` (the run's k-th frame, at work.timestamp) and accumulates the VO pose. An unreadable
   /// frame gets the constant-velocity fallback over its elapsed time (identity at k = 0).
