@@ -2,7 +2,8 @@
 // Ceres factors of the stereo M-step (digest 3.5 option B): SE(3) pose blocks, the relative-pose (VO control)
 // factor W (x_i ⊖ x_{i−1} u_i) (paper 004 Eq. 2 with the SE(3) motion of backend/models/se3_motion.hpp) and
 // the responsibility-weighted stereo measurement factor √β R^{-1/2} (z − π(x⁻¹ m)) (Eq. 3 weighted by the
-// E-step's β; the projection of core/stereo_camera.hpp). Automatic derivatives through the quaternion.
+// E-step's β; the projection of core/stereo_camera.hpp). The motion factor has automatic derivatives through
+// the quaternion, the measurement factor (one per gated pair: the hot one) analytic ones.
 //
 // Pose block (7 doubles): the unit quaternion of R_wc in Eigen's order (x, y, z, w), then t_wc; its manifold
 // is Ceres' EigenQuaternionManifold × EuclideanManifold<3>.
@@ -12,6 +13,7 @@
 #include <ceres/manifold.h>
 #include <ceres/product_manifold.h>
 #include <ceres/rotation.h>
+#include <ceres/sized_cost_function.h>
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
@@ -104,9 +106,70 @@ struct StereoProjectionResidual {
   }
 };
 
+/// StereoProjectionResidual with analytic Jacobians (the M-step's hot factor: one per gated pair of every
+/// scan). With v = m − t, p = Rᵀ v, R = R(q) = (w² − ‖u‖²) I + 2 u uᵀ + 2 w [u]× for q = (u, w):
+///   ∂r/∂p = −W ∂π/∂p,  ∂p/∂t = −Rᵀ,  ∂p/∂m = Rᵀ,
+///   ∂p/∂u = 2 (uᵀv) I + 2 u vᵀ − 2 v uᵀ + 2 w [v]×,  ∂p/∂w = 2 w v − 2 u × v
+/// (derivatives of the homogeneous form of Rᵀ v; on the unit sphere, where the manifold's tangent lies, they
+/// equal those of Eigen's rotation of the automatic version).
+class StereoProjectionFactor : public ceres::SizedCostFunction<3, kPose3BlockSize, 3> {
+ public:
+  StereoProjectionFactor(const StereoCamera& camera, const Eigen::Vector3d& z, const Eigen::Matrix3d& W)
+      : camera_(camera), z_(z), W_(W) {}
+
+  bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override {
+    const Eigen::Map<const Eigen::Quaterniond> q(parameters[0]);
+    const Eigen::Map<const Eigen::Vector3d> t(parameters[0] + 4), m(parameters[1]);
+    const Eigen::Vector3d v = m - t;
+    const Eigen::Vector3d p = q.conjugate() * v;
+    const double iz = 1.0 / p.z();
+    const double fx = camera_.fx, fy = camera_.fy;
+    const Eigen::Vector3d zhat(fx * p.x() * iz + camera_.cx, fy * p.y() * iz + camera_.cy,
+                               fx * (p.x() - camera_.baseline) * iz + camera_.cx);
+    Eigen::Map<Eigen::Vector3d>{residuals} = W_ * (z_ - zhat);
+    if (jacobians == nullptr) return true;
+    Eigen::Matrix3d dpi;  // ∂π/∂p
+    dpi << fx * iz, 0.0, -fx * p.x() * iz * iz, 0.0, fy * iz, -fy * p.y() * iz * iz, fx * iz, 0.0,
+        -fx * (p.x() - camera_.baseline) * iz * iz;
+    const Eigen::Matrix3d dr_dp = -W_ * dpi;
+    const Eigen::Matrix3d Rt = q.toRotationMatrix().transpose();
+    if (jacobians[0] != nullptr) {
+      Eigen::Map<Eigen::Matrix<double, 3, kPose3BlockSize, Eigen::RowMajor>> J(jacobians[0]);
+      const Eigen::Vector3d u = q.vec();
+      const double w = q.w();
+      Eigen::Matrix3d v_cross;
+      v_cross << 0.0, -v.z(), v.y(), v.z(), 0.0, -v.x(), -v.y(), v.x(), 0.0;
+      const Eigen::Matrix3d dp_du = 2.0 * u.dot(v) * Eigen::Matrix3d::Identity() + 2.0 * u * v.transpose() -
+                                    2.0 * v * u.transpose() + 2.0 * w * v_cross;
+      const Eigen::Vector3d dp_dw = 2.0 * w * v - 2.0 * u.cross(v);
+      J.block<3, 3>(0, 0) = dr_dp * dp_du;
+      J.col(3) = dr_dp * dp_dw;
+      J.block<3, 3>(0, 4) = -dr_dp * Rt;
+    }
+    if (jacobians[1] != nullptr) {
+      Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> J(jacobians[1]);
+      J = dr_dp * Rt;
+    }
+    return true;
+  }
+
+ private:
+  StereoCamera camera_;
+  Eigen::Vector3d z_;
+  Eigen::Matrix3d W_;
+};
+
+/// The M-step's measurement factor (analytic Jacobians).
 inline ceres::CostFunction* make_stereo_measurement_factor(const StereoCamera& camera,
                                                            const Eigen::Vector3d& z, const Eigen::Matrix3d& W,
                                                            double beta) {
+  return new StereoProjectionFactor(camera, z, std::sqrt(beta) * W);
+}
+
+/// The same factor with automatic derivatives (the reference of the analytic one in the tests).
+inline ceres::CostFunction* make_stereo_measurement_factor_autodiff(const StereoCamera& camera,
+                                                                    const Eigen::Vector3d& z,
+                                                                    const Eigen::Matrix3d& W, double beta) {
   return new ceres::AutoDiffCostFunction<StereoProjectionResidual, 3, kPose3BlockSize, 3>(
       new StereoProjectionResidual{camera, z, std::sqrt(beta) * W});
 }

@@ -6,7 +6,10 @@ void load_mlslam_config(ConfigNode node, MlSlamConfig& c) {
   node.read_choice("association", c.association, {"rfs", "nearest_neighbour"});
   node.read_in_range("max_rounds", c.max_rounds, 1, 100000);
   node.read_in_range("tolerance", c.tolerance, 0.0, 1e9);
+  node.read_in_range("relative_tolerance", c.relative_tolerance, 0.0, 1.0);
   node.read_in_range("solver_iterations", c.solver_iterations, 1, 10000);
+  node.read_choice("linear_solver", c.linear_solver,
+                   {"auto", "sparse_schur", "iterative_schur", "sparse_normal_cholesky"});
   node.read_in_range("max_assignments", c.max_assignments, 1, 100000);
   node.read_in_range("assignment_log_gap", c.assignment_log_gap, 0.0, 1e6);
   node.read_in_range("gate", c.gate, 0.0, 1e9);
@@ -28,6 +31,12 @@ void load_mlslam_config(ConfigNode node, MlSlamConfig& c) {
 void validate_mlslam_config(const MlSlamConfig& c) {
   if (c.association != "rfs" && c.association != "nearest_neighbour") {
     throw ConfigError("mlslam.association must be rfs or nearest_neighbour, got '" + c.association + "'");
+  }
+  if (c.linear_solver != "auto" && c.linear_solver != "sparse_schur" &&
+      c.linear_solver != "iterative_schur" && c.linear_solver != "sparse_normal_cholesky") {
+    throw ConfigError(
+        "mlslam.linear_solver must be auto, sparse_schur, iterative_schur or sparse_normal_cholesky, got '" +
+        c.linear_solver + "'");
   }
   if (c.max_rounds < 1 || c.solver_iterations < 1 || c.max_assignments < 1) {
     throw ConfigError("mlslam.max_rounds, solver_iterations and max_assignments must be at least 1");

@@ -23,7 +23,9 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
+#include <string>
 #include <unordered_map>
+#include <utility>
 #include <vector>
 
 #include <ceres/ceres.h>
@@ -31,6 +33,7 @@
 #include <Eigen/StdVector>
 
 #include "backend/mlslam/ceres_factors_2d.hpp"
+#include "backend/mlslam/landmark_grid.hpp"
 #include "backend/mlslam/mlslam_config.hpp"
 #include "backend/mlslam/scan_likelihood.hpp"
 #include "backend/mlslam/smooth_detection.hpp"
@@ -46,6 +49,7 @@ struct MlSlamReport {
   std::vector<double> log_likelihood_per_round;  ///< l after each round (the objective being maximised)
   int births = 0, deaths = 0, merges = 0;        ///< accepted cardinality moves
   double ms = 0.0;
+  double e_step_ms = 0.0, m_step_ms = 0.0;  ///< of ms: the E-steps (likelihood and β), the M-steps (Ceres)
 };
 
 template <class Motion, class Model, class Parts = PlanarMlSlamParts<Motion, Model>>
@@ -77,18 +81,25 @@ class RfsMlSlam {
     Stopwatch watch;
     State s{poses, map, {}, {}};
     MlSlamReport report;
-    e_step(s, controls, scans);
+    auto timed_e_step = [&](State& state) {
+      Stopwatch e;
+      e_step(state, controls, scans);
+      report.e_step_ms += e.elapsed_ms();
+    };
+    timed_e_step(s);
     report.initial_log_likelihood = s.log_likelihood;
     double l = s.log_likelihood;
     for (int round = 0; round < config_.max_rounds; ++round) {
       State next = s;
+      Stopwatch m;
       m_step(next, controls, scans);
+      report.m_step_ms += m.elapsed_ms();
       if (nearest_neighbour()) add_unassigned_as_landmarks(next, scans);
-      e_step(next, controls, scans);
+      timed_e_step(next);
       // the M-step holds p_D fixed: if l fell, step back towards the previous estimate (halving)
       for (int halving = 0; halving < 3 && !nearest_neighbour() && !(next.log_likelihood > l); ++halving) {
         blend_towards(s, next);
-        e_step(next, controls, scans);
+        timed_e_step(next);
       }
       const bool improved = next.log_likelihood > l;
       if (improved || nearest_neighbour()) s = std::move(next);
@@ -98,7 +109,9 @@ class RfsMlSlam {
       const double gain = s.log_likelihood - l;
       l = s.log_likelihood;
       report.log_likelihood_per_round.push_back(l);
-      if (accepted == 0 && (!improved || std::abs(gain) < config_.tolerance)) break;
+      const double stop_gain =
+          std::max(config_.tolerance, config_.relative_tolerance * (l - report.initial_log_likelihood));
+      if (accepted == 0 && (!improved || std::abs(gain) < stop_gain)) break;
     }
     report.final_log_likelihood = l;
     report.ms = watch.elapsed_ms();
@@ -176,6 +189,14 @@ class RfsMlSlam {
 
   bool nearest_neighbour() const { return config_.association == "nearest_neighbour"; }
 
+  ceres::LinearSolverType linear_solver(std::size_t poses) const {
+    const std::string& s = config_.linear_solver;
+    if (s == "iterative_schur") return ceres::ITERATIVE_SCHUR;
+    if (s == "sparse_normal_cholesky" || (s == "auto" && poses > MlSlamConfig::kAutoSchurPoses))
+      return ceres::SPARSE_NORMAL_CHOLESKY;
+    return ceres::SPARSE_SCHUR;
+  }
+
   ScanLikelihoodOptions scan_options() const {
     ScanLikelihoodOptions o;
     o.gate = config_.gate;
@@ -193,10 +214,21 @@ class RfsMlSlam {
 
   bool maybe_in_view(const Pose& x, const Landmark& m) const { return p_D_.maybe_in_view(model_, x, m); }
 
-  std::vector<int> candidates_of(const Pose& x, const LandmarkList& map) const {
-    std::vector<int> c;
-    for (std::size_t j = 0; j < map.size(); ++j)
-      if (maybe_in_view(x, map[j])) c.push_back(static_cast<int>(j));
+  using Grid = LandmarkGrid<decltype(Model::landmark_position(std::declval<Landmark>()))::RowsAtCompileTime>;
+
+  /// The voxel hash of the map's landmarks, cells of half the detection model's query radius.
+  Grid grid_of(const LandmarkList& map) const {
+    return Grid(
+        map.size(), [&](std::size_t j) { return Model::landmark_position(map[j]); },
+        0.5 * p_D_.query_radius());
+  }
+
+  /// The landmarks (map indices, ascending) that p_D may see from x.
+  std::vector<int> candidates_of(const Pose& x, const LandmarkList& map, const Grid& grid) const {
+    std::vector<int> c = grid.near(Model::position(x), p_D_.query_radius());
+    c.erase(std::remove_if(c.begin(), c.end(),
+                           [&](int j) { return !maybe_in_view(x, map[static_cast<std::size_t>(j)]); }),
+            c.end());
     return c;
   }
 
@@ -213,9 +245,10 @@ class RfsMlSlam {
     s.scans.assign(K, {});
     s.motion_ll.assign(K, 0.0);
     const ScanLikelihoodOptions o = scan_options();
+    const Grid grid = grid_of(s.map);
     parallel_for(K, [&](std::size_t i) {
       ScanState& ss = s.scans[i];
-      ss.candidates = candidates_of(s.poses[i], s.map);
+      ss.candidates = candidates_of(s.poses[i], s.map, grid);
       if (nearest_neighbour()) {
         ss.association = nearest_neighbour_scan(s.poses[i], gather(s.map, ss.candidates), scans[i]);
       } else {
@@ -289,6 +322,7 @@ class RfsMlSlam {
     const std::size_t K = scans.size();
     ceres::Problem::Options po;
     po.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+    po.disable_all_safety_checks = true;  // each block is added once, by construction
     ceres::Problem problem(po);
     constexpr int B = Parts::kBlockSize;
     std::vector<double> blocks(K * B);
@@ -317,7 +351,18 @@ class RfsMlSlam {
     if (!problem.HasParameterBlock(block(0))) return;
     problem.SetParameterBlockConstant(block(0));
     ceres::Solver::Options so;
-    so.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
+    so.linear_solver_type = linear_solver(K);
+    if (so.linear_solver_type != ceres::SPARSE_NORMAL_CHOLESKY) {
+      // bundle-adjustment shape: the landmarks (group 0) are eliminated first; the ordering is given, not
+      // searched for
+      auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
+      for (auto& m : s.map)
+        if (problem.HasParameterBlock(m.data())) ordering->AddElementToGroup(m.data(), 0);
+      for (std::size_t i = 0; i < K; ++i)
+        if (problem.HasParameterBlock(block(i))) ordering->AddElementToGroup(block(i), 1);
+      so.linear_solver_ordering = ordering;
+      so.preconditioner_type = ceres::SCHUR_JACOBI;
+    }
     so.max_num_iterations = config_.solver_iterations;
     so.num_threads = 1;
     so.logging_type = ceres::SILENT;

@@ -19,10 +19,12 @@ class SmoothStereoDetection {
       : config_(model.config()),
         w_d_(width_depth > 0.0 ? width_depth : 0.02 * model.config().max_depth),
         w_px_(width_pixels > 0.0 ? width_pixels : model.config().pixel_sigma) {
-    // a point in view lies within depth · √(1 + (u/f_x)² + (v/f_y)²) of the camera centre
+    // a point maybe_in_view lies within depth · √(1 + (u/f_x)² + (v/f_y)²) of the camera centre, with u, v
+    // the largest offsets from the principal point that maybe_in_view admits
     const StereoCamera& c = model.camera();
-    const double u = std::max(c.cx, model.image_width() - c.cx) / c.fx;
-    const double v = std::max(c.cy, model.image_height() - c.cy) / c.fy;
+    const double slack = std::max(0.0, 14.0 * w_px_ - config_.border);
+    const double u = (std::max(c.cx, model.image_width() - c.cx) + slack) / c.fx;
+    const double v = (std::max(c.cy, model.image_height() - c.cy) + slack) / c.fy;
     radius_ = (config_.max_depth + 14.0 * w_d_) * std::sqrt(1.0 + u * u + v * v);
   }
 

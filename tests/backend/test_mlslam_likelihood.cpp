@@ -3,10 +3,13 @@
 #include <gtest/gtest.h>
 
 #include <functional>
+#include <limits>
 
 #include "backend/mlslam/scan_likelihood.hpp"
+#include "backend/mlslam/smooth_stereo_detection.hpp"
 #include "core/gaussian.hpp"
 #include "mlslam_test_problem.hpp"
+#include "stereo_test_support.hpp"
 
 namespace glmbslam::backend {
 namespace {
@@ -14,10 +17,12 @@ namespace {
 using test::Slam2D;
 
 /// Eq. 7 summed over every association θ (injective partial maps measurement → landmark), with the p_D of
-/// `detection` and no gate; beta(m, n) receives Σ_θ π_θ 1[θ(n) = m].
-double brute_force_eq7(const RangeBearingModel& model, const SmoothDetection2D& detection, const Pose2& x,
-                       const Slam2D::LandmarkList& M, const Slam2D::MeasurementSet& Z,
-                       Eigen::MatrixXd* beta) {
+/// `detection` and the pairs of squared Mahalanobis distance ≤ `gate` (every pair by default);
+/// beta(m, n) receives Σ_θ π_θ 1[θ(n) = m].
+template <class Model, class Detection, class LandmarkList, class MeasurementSet>
+double brute_force_eq7(const Model& model, const Detection& detection, const typename Model::Pose& x,
+                       const LandmarkList& M, const MeasurementSet& Z, Eigen::MatrixXd* beta,
+                       double gate = std::numeric_limits<double>::infinity()) {
   const std::size_t P = M.size(), J = Z.size();
   std::vector<double> pd(P);
   for (std::size_t p = 0; p < P; ++p) pd[p] = detection(model, x, M[p], model.predict(x, M[p]));
@@ -46,6 +51,7 @@ double brute_force_eq7(const RangeBearingModel& model, const SmoothDetection2D& 
     rec(j + 1);
     for (std::size_t p = 0; p < P; ++p) {
       if (used[p] != 0) continue;
+      if (mahalanobis_squared(model.residual(Z[j], model.predict(x, M[p])), model.noise()) > gate) continue;
       used[p] = 1;
       theta[j] = static_cast<int>(p);
       rec(j + 1);
@@ -95,6 +101,56 @@ TEST(MlSlamLikelihood, EqualsBruteForceEnumerationOfEq7) {
   // every measurement's responsibilities (landmarks + clutter) sum to at most 1, and some are shared
   EXPECT_LE(got.colwise().sum().maxCoeff(), 1.0 + 1e-12);
   EXPECT_GT((got.array() > 0.05 && got.array() < 0.95).count(), 2);
+}
+
+/// evaluate_scan with every ranked assignment and `gate` against brute force over the gated associations;
+/// returns the marginals β (landmark × measurement).
+template <class Model, class Detection, class LandmarkList, class MeasurementSet>
+Eigen::MatrixXd expect_gated_scan_equals_brute_force(const Model& model, const Detection& detection,
+                                                     const typename Model::Pose& x, const LandmarkList& M,
+                                                     const MeasurementSet& Z, double gate) {
+  ScanLikelihoodOptions o;
+  o.gate = gate;
+  o.max_assignments = 100000;
+  o.assignment_log_gap = 1e9;
+  const ScanAssociation s = evaluate_scan(model, detection, x, M, Z, o);
+  Eigen::MatrixXd beta;
+  EXPECT_NEAR(s.log_likelihood, brute_force_eq7(model, detection, x, M, Z, &beta, gate), 1e-9);
+  Eigen::MatrixXd got = Eigen::MatrixXd::Zero(beta.rows(), beta.cols());
+  for (const auto& b : s.betas) got(b.landmark, b.measurement) += b.beta;
+  EXPECT_LT((got - beta).cwiseAbs().maxCoeff(), 1e-9);
+  return got;
+}
+
+/// evaluate_scan looks at a landmark's measurements only within √(gate R_00) of ẑ_0: with a finite gate it
+/// must give the brute-force sum over the gated associations, pairs outside that window included in the scan.
+TEST(MlSlamLikelihood, GatedScanEqualsBruteForceOverTheGatedAssociations) {
+  {
+    const RangeBearingModel model = ambiguous_model();
+    const SmoothDetection2D detection(model, 0.2, 0.05);
+    const Pose2 x(0.1, -0.2, 0.05);
+    const Slam2D::LandmarkList M{{3.0, 0.1}, {3.2, -0.2}, {2.9, 0.4}, {4.95, 0.0}, {1.5, 1.2}, {1.0, -0.5}};
+    const Slam2D::MeasurementSet Z{{3.0, 0.1},  {3.3, -0.05}, {2.2, 0.3},
+                                   {4.8, 0.05}, {1.9, 0.9},   {1.1, -0.6}};
+    expect_gated_scan_equals_brute_force(model, detection, x, M, Z, 9.0);
+  }
+  {
+    StereoMeasurementConfig c;
+    c.pixel_sigma = 2.0;
+    c.clutter_rate = 3.0;
+    const StereoMeasurementModel model(test::kitti_calibration(), c);
+    const SmoothStereoDetection detection(model, 0.0, 0.0);
+    const Pose3 x = Pose3::Identity();
+    // landmarks in pairs a few pixels apart (shared measurements), one pair sharing v but not u_L
+    std::vector<Eigen::Vector3d, Eigen::aligned_allocator<Eigen::Vector3d>> M{
+        {1.0, 0.5, 12.0},   {1.02, 0.52, 12.1}, {-3.0, 1.0, 20.0},
+        {-2.98, 1.0, 19.0}, {4.0, 0.5, 12.0},   {6.0, 0.5, 12.0}};
+    std::vector<Eigen::Vector3d, Eigen::aligned_allocator<Eigen::Vector3d>> Z;
+    for (const auto& m : M) Z.push_back(model.predict(x, m) + Eigen::Vector3d(1.5, -1.0, 0.5));
+    Z.push_back({600.0, 100.0, 580.0});  // clutter
+    const Eigen::MatrixXd beta = expect_gated_scan_equals_brute_force(model, detection, x, M, Z, 16.0);
+    EXPECT_GT((beta.array() > 0.05 && beta.array() < 0.95).count(), 2);  // ambiguous pairs exist
+  }
 }
 
 TEST(MlSlamLikelihood, GatedTruncationIsALowerBoundCloseToTheExactSum) {

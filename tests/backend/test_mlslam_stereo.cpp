@@ -89,6 +89,52 @@ TEST(MlSlamStereoFactors, JacobiansMatchFiniteDifferencesOnTheManifold) {
                                             {block_of(a), std::vector<double>(m.data(), m.data() + 3)});
 }
 
+/// J · PlusJacobian: the Jacobian on the manifold's tangent (what Ceres solves with).
+Eigen::MatrixXd tangent_jacobian(const double* ambient, int rows, int cols, const ceres::Manifold& manifold,
+                                 const double* x) {
+  const Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> J(
+      ambient, rows, cols);
+  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> plus(manifold.AmbientSize(),
+                                                                              manifold.TangentSize());
+  manifold.PlusJacobian(x, plus.data());
+  return J * plus;
+}
+
+TEST(MlSlamStereoFactors, AnalyticStereoJacobiansEqualTheAutomaticOnes) {
+  const StereoMeasurementModel model(test::kitti_calibration(), StereoMeasurementConfig{});
+  const Pose3CeresManifold se3;
+  RandomStream rng(7, 0);
+  Eigen::Matrix3d W;
+  W << 2.0, 0.0, 0.0, 0.3, 1.5, 0.0, -0.2, 0.1, 1.0;
+  for (int trial = 0; trial < 20; ++trial) {
+    Vector6d xi;
+    for (int k = 0; k < 6; ++k) xi(k) = rng.normal(0.0, k < 3 ? 5.0 : 0.5);
+    const Pose3 x = pose(xi);
+    const Eigen::Vector3d m =
+        x * Eigen::Vector3d(rng.normal(0.0, 4.0), rng.normal(0.0, 2.0), 5.0 + 30.0 * rng.uniform());
+    const Eigen::Vector3d z =
+        model.predict(x, m) +
+        Eigen::Vector3d(rng.normal(0.0, 2.0), rng.normal(0.0, 2.0), rng.normal(0.0, 2.0));
+    std::unique_ptr<ceres::CostFunction> analytic(make_stereo_measurement_factor(model.camera(), z, W, 0.7));
+    std::unique_ptr<ceres::CostFunction> automatic(
+        make_stereo_measurement_factor_autodiff(model.camera(), z, W, 0.7));
+    auto px = block_of(x);
+    const double* params[] = {px.data(), m.data()};
+    Eigen::Vector3d ra, rb;
+    double Ja_x[21], Ja_m[9], Jb_x[21], Jb_m[9];
+    double* Ja[] = {Ja_x, Ja_m};
+    double* Jb[] = {Jb_x, Jb_m};
+    ASSERT_TRUE(analytic->Evaluate(params, ra.data(), Ja));
+    ASSERT_TRUE(automatic->Evaluate(params, rb.data(), Jb));
+    EXPECT_LT((ra - rb).norm(), 1e-9 * (1.0 + rb.norm()));
+    const Eigen::MatrixXd Ta = tangent_jacobian(Ja_x, 3, 7, se3, px.data());
+    const Eigen::MatrixXd Tb = tangent_jacobian(Jb_x, 3, 7, se3, px.data());
+    EXPECT_LT((Ta - Tb).norm(), 1e-9 * (1.0 + Tb.norm())) << "trial " << trial;
+    EXPECT_LT((Eigen::Map<Eigen::Matrix3d>(Ja_m) - Eigen::Map<Eigen::Matrix3d>(Jb_m)).norm(),
+              1e-9 * (1.0 + Eigen::Map<Eigen::Matrix3d>(Jb_m).norm()));
+  }
+}
+
 TEST(MlSlamStereoFactors, SmoothDetectionIsHalfAtTheBorderAndFullInside) {
   StereoMeasurementConfig c;
   c.p_detect_inside = 0.8;
@@ -206,6 +252,32 @@ TEST(MlSlamStereoSolver, ConvergesFromAPerturbedStart) {
   EXPECT_GT(start_error, 0.2);
   EXPECT_LT(max_position_error(x, p.truth), 0.05);
   EXPECT_LT(max_position_error(x, p.truth), max_position_error(p.odometry, p.truth));
+}
+
+/// The M-step's linear solvers (Schur elimination of the landmarks, exact or by conjugate gradients, and the
+/// plain normal equations) solve the same least-squares problem: the same optimum, cardinality moves off.
+TEST(MlSlamStereoSolver, LinearSolversReachTheSameOptimum) {
+  const StereoProblem p = make_stereo_problem(12, 3);
+  std::vector<StereoMlSlam::PoseList> poses;
+  std::vector<double> l;
+  for (const char* solver : {"sparse_normal_cholesky", "sparse_schur", "iterative_schur", "auto"}) {
+    MlSlamConfig c = stereo_config();
+    c.cardinality_moves = false;
+    c.linear_solver = solver;
+    c.max_rounds = 40;
+    c.tolerance = 1e-9;
+    const StereoMlSlam slam(p.motion, p.model, c);
+    StereoMlSlam::PoseList x = p.odometry;
+    StereoMlSlam::LandmarkList m = p.landmarks;
+    l.push_back(slam.solve(x, p.controls, p.scans, m).final_log_likelihood);
+    poses.push_back(x);
+  }
+  for (std::size_t v = 1; v < poses.size(); ++v) {
+    EXPECT_NEAR(l[v], l[0], 1e-6 * std::abs(l[0])) << v;           // EM stops within its tolerance
+    EXPECT_LT(max_position_error(poses[v], poses[0]), 5e-4) << v;  // the start is 0.2 m off
+  }
+  EXPECT_GT(l[0], StereoMlSlam(p.motion, p.model, stereo_config())
+                      .log_likelihood(p.odometry, p.controls, p.scans, p.landmarks));
 }
 
 TEST(MlSlamStereoSolver, SameInputSameOutputAtAnyThreadCount) {

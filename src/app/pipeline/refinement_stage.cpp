@@ -100,11 +100,17 @@ void RefinementStage::on_finish(RunRecord& record) {
   for (std::size_t j = 0; j < map.size(); ++j)
     record.refined_map.push_back(io::MapPoint{map[j], static_cast<std::uint64_t>(j), 1.0});
   stats["final_ms"] = watch.elapsed_ms();
+  stats["final_e_step_ms"] = r.e_step_ms;
+  stats["final_m_step_ms"] = r.m_step_ms;
+  stats["final_landmarks"] = static_cast<double>(map.size());
   stats["final_rounds"] = r.rounds;
   stats["final_log_likelihood_gain"] = r.final_log_likelihood - r.initial_log_likelihood;
   stats["final_births"] = r.births;
   stats["final_deaths"] = r.deaths;
   stats["final_merges"] = r.merges;
+  for (std::size_t i = 0; i < r.log_likelihood_per_round.size(); ++i)
+    spdlog::debug("refinement: final pass round {}: log-likelihood {:.3f}", i + 1,
+                  r.log_likelihood_per_round[i]);
   spdlog::info(
       "refinement: {} windows ({:.1f} ms each), final pass {:.0f} ms, {} rounds, log-likelihood +{:.1f}",
       windows_, stats["window_ms_mean"], stats["final_ms"], r.rounds, stats["final_log_likelihood_gain"]);
