@@ -23,7 +23,8 @@
 
 namespace glmbslam::backend {
 
-/// Throws ConfigError on an invalid weighting, particle_normalizer or single_particle setting.
+/// Throws ConfigError on an invalid weighting, particle_normalizer, single_particle or proposal_scale
+/// setting.
 inline void validate_rbpf_weighting(const RbpfConfig& config) {
   if (config.weighting != "importance" && config.weighting != "paper")
     throw ConfigError("rbpf.weighting must be 'importance' or 'paper'");
@@ -31,6 +32,8 @@ inline void validate_rbpf_weighting(const RbpfConfig& config) {
     throw ConfigError("rbpf.particle_normalizer must be 'sampled' or 'factorized'");
   if (config.single_particle != "sample" && config.single_particle != "mean")
     throw ConfigError("rbpf.single_particle must be 'sample' or 'mean'");
+  if (!(config.proposal_scale >= 0.0 && config.proposal_scale <= 1.0))
+    throw ConfigError("rbpf.proposal_scale must be in [0, 1]");
 }
 
 /// The initial scan of `filter` (named in the error): `updater` takes particle 0's map at its (known) pose

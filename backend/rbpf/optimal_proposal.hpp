@@ -19,6 +19,11 @@
 // weighting. η includes the update's descriptor likelihood ratio when the model has one (appearance.hpp), so
 // that the proposal weighs an association as the update will.
 //
+// The draw (rbpf.proposal_scale s): after step 5 every covariance of the result is multiplied by s, so that
+// sample() and log_density() are those of the narrower density the particle draws from; s = 0 keeps the
+// covariances and sample() returns the mean (of a component drawn by weight for a mixture), whose weight
+// f/q · Ĝ is then the Laplace approximation of the marginal likelihood.
+//
 // Association rounds (rbpf.proposal_association_rounds). Step 3 scores every landmark with the pose-marginal
 // S', as if each landmark saw its own independent draw of the pose error: Π_i ∫ η_i(θ_i | x) N(x; x̄, P̄) dx
 // instead of ∫ Π_i η_i(θ_i | x) N(x; x̄, P̄) dx. With a tight P̄ the two agree; with a wide one (a fallback Q, a
@@ -82,6 +87,7 @@ class OptimalProposal {
         model_(model),
         config_(config),
         use_mean_(config.particles == 1 && config.single_particle == "mean"),
+        scale_(config.proposal_scale),
         births_(parse_births(config.proposal_births)) {}
 
   void build(const GlmbMap<Meas>& map, const State& x_pred, const Covariance& P_pred, const MeasurementSet& Z,
@@ -126,12 +132,19 @@ class OptimalProposal {
       out.cov += std::exp(c.log_weight) * (c.cov + d * d.transpose());
     }
     symmetrize(out.cov);
+    if (scale_ > 0.0 && scale_ != 1.0) {  // the draw density (rbpf.proposal_scale)
+      out.cov *= scale_;
+      for (auto& c : out.components) c.cov *= scale_;
+    }
   }
 
   /// Draws x ~ q (the moment-matched Gaussian, or the mixture); its mean with one particle and
-  /// single_particle "mean".
+  /// single_particle "mean"; with proposal_scale 0 the mean (a mixture: the mean of a component drawn by
+  /// weight).
   State sample(const Result& q, RandomStream& rng) const {
     if (use_mean_) return q.mean;
+    if (scale_ == 0.0)
+      return q.mixture ? q.components[draw_mixture_component(q.components, rng)].mean : q.mean;
     if (!q.mixture) return Motion::retract(q.mean, rng.gaussian<kDim>(Tangent::Zero(), q.cov));
     return draw_from_pose_mixture<Motion>(q.components, rng);
   }
@@ -432,6 +445,7 @@ class OptimalProposal {
   Meas model_;
   RbpfConfig config_;
   bool use_mean_ = false;  ///< one particle and RbpfConfig::single_particle "mean": sample() gives the mean
+  double scale_ = 1.0;     ///< RbpfConfig::proposal_scale
   Births births_ = Births::kNever;  ///< RbpfConfig::proposal_births
 };
 

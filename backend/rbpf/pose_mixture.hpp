@@ -12,15 +12,22 @@
 
 namespace glmbslam::backend {
 
-/// c ~ Categorical(w), then x ~ N(μ_c, Σ_c) on the manifold of Motion.
-template <class Motion, class Components>
-typename Motion::State draw_from_pose_mixture(const Components& components, RandomStream& rng) {
+/// c ~ Categorical(w): one uniform draw from `rng`.
+template <class Components>
+std::size_t draw_mixture_component(const Components& components, RandomStream& rng) {
   double u = rng.uniform();
   std::size_t c = 0;
   for (; c + 1 < components.size(); ++c) {
     u -= std::exp(components[c].log_weight);
     if (u < 0.0) break;
   }
+  return c;
+}
+
+/// c ~ Categorical(w), then x ~ N(μ_c, Σ_c) on the manifold of Motion.
+template <class Motion, class Components>
+typename Motion::State draw_from_pose_mixture(const Components& components, RandomStream& rng) {
+  const std::size_t c = draw_mixture_component(components, rng);
   return Motion::retract(components[c].mean,
                          rng.gaussian<Motion::kDim>(Motion::Tangent::Zero(), components[c].cov));
 }

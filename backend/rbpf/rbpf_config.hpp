@@ -41,6 +41,14 @@ struct RbpfConfig {
   /// With one particle: "sample" draws the pose from the optimal-kernel proposal (paper 000); "mean" takes
   /// the proposal's mean (the minimum-MSE point; a lone particle has no weights to correct its draw noise)
   std::string single_particle = "sample";
+  /// The particles draw their pose from the optimal-kernel proposal with every covariance scaled by this
+  /// factor s, and weigh the draw by the density of that scaled proposal (the importance correction stays
+  /// exact): 1 = paper 000; 0 < s < 1 narrower draws; 0 = no draw: the proposal mean (a mixture: the mean of
+  /// a component drawn by weight), weighed by Ĝ(x) f(x|x⁻,u) / q(x), the Laplace approximation of the
+  /// particle's marginal likelihood. Each draw's spread stays in the particle's map and every later pose (a
+  /// resampled filter keeps one sampled history), so a draw as wide as the posterior adds error that the
+  /// weights cannot remove. Range [0, 1]
+  double proposal_scale = 1.0;
   GlmbConfig glmb;  ///< map update settings (YAML child "glmb")
 };
 

@@ -18,6 +18,8 @@ VictoriaParkConfig default_victoria_park_config() {
       "mean";  // N = 1: the proposal mean (glmb2 seeds 0-9: 6.79 ± 8.04 m -> 2.04 ± 0.10 m)
   c.rbpf.glmb.gate_threshold = 41.4465;  // paper 003: χ² 1 − 1e-9
   c.rbpf.ess_threshold = 0.1;  // ESS < 0.1·N: resample only on (near) degeneracy, like paper 003's T_ESS = 1
+  // glmb2: each particle takes a proposal component's mean, no draw (N = 10 seeds 0-4: 2.71 -> 2.01 m)
+  c.rbpf.proposal_scale = 0.0;
   c.phd.resampling = "ess";
   // phd3 = PHD-SLAM 3.0 as published for Victoria Park (paper 003 Sec. VI-B, digest 2.6): Eq. 46 likelihood,
   // resampling only on (near) degeneracy (T_ESS = 1 particle = 0.1·N for N = 10), map threshold (1 − 0.7)²
