@@ -1,7 +1,9 @@
 #include "eval/html_report.hpp"
 
 #include <filesystem>
+#include <sstream>
 #include <stdexcept>
+#include <string_view>
 #include <utility>
 
 #include "core/atomic_file.hpp"
@@ -210,30 +212,35 @@ void HtmlReport::add_text(const std::string& caption, const std::string& text, b
   blocks_.push_back({{"kind", "text"}, {"caption", caption}, {"text", text}, {"collapsed", collapsed}});
 }
 
+void HtmlReport::write_page(std::ostream& out) const {
+  // The data object {"blocks": …, "subtitle": …, "title": …} (nlohmann's key order) is written in two parts
+  // so that the blocks, the bulk of a long run's report, are dumped once and never copied. Non-finite numbers
+  // become null (plotly leaves a gap); invalid UTF-8 is replaced, never an exception.
+  const auto dump = [](const nlohmann::json& j) {
+    return escape_json_for_script(j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace));
+  };
+  const std::string head = dump({{"title", title_}, {"subtitle", subtitle_}});  // {"subtitle":…,"title":…}
+  out << "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
+      << "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n"
+      << "<meta name=\"generator\" content=\"glmbslam, plotly.js " << plotly_bundle_version()
+      << " (MIT licence, Plotly, Inc.)\">\n"
+      << "<title>" << escape_html(title_) << "</title>\n<style>" << kStyle << "</style>\n"
+      << "<script>" << kErrorCapture << "</script>\n<script>\n"
+      << plotly_bundle()
+      << "\n</script>\n</head>\n<body>\n<nav id=\"toc\"></nav>\n<main id=\"report\"></main>\n"
+      << "<script id=\"report-data\" type=\"application/json\">{\"blocks\":" << dump(blocks_) << ','
+      << std::string_view(head).substr(1) << "</script>\n"
+      << "<script>" << kPageScript << "</script>\n</body>\n</html>\n";
+}
+
 std::string HtmlReport::html() const {
-  const nlohmann::json data = {{"title", title_}, {"subtitle", subtitle_}, {"blocks", blocks_}};
-  // Non-finite numbers become null (plotly leaves a gap); invalid UTF-8 is replaced, never an exception.
-  const std::string json = data.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
-  const std::string_view plotly = plotly_bundle();
-  std::string page;
-  page.reserve(plotly.size() + json.size() + 8192);
-  page += "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n";
-  page += "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n";
-  page += "<meta name=\"generator\" content=\"glmbslam, plotly.js " + std::string(plotly_bundle_version()) +
-          " (MIT licence, Plotly, Inc.)\">\n";
-  page += "<title>" + escape_html(title_) + "</title>\n<style>" + kStyle + "</style>\n";
-  page += "<script>" + std::string(kErrorCapture) + "</script>\n<script>\n";
-  page += plotly;
-  page += "\n</script>\n</head>\n<body>\n<nav id=\"toc\"></nav>\n<main id=\"report\"></main>\n";
-  page +=
-      "<script id=\"report-data\" type=\"application/json\">" + escape_json_for_script(json) + "</script>\n";
-  page += "<script>" + std::string(kPageScript) + "</script>\n</body>\n</html>\n";
-  return page;
+  std::ostringstream page;
+  write_page(page);
+  return page.str();
 }
 
 void HtmlReport::write(const std::string& path) const {
-  const std::string page = html();
-  write_text_file_atomically(std::filesystem::path(path), [&](std::ostream& out) { out << page; });
+  write_text_file_atomically(std::filesystem::path(path), [&](std::ostream& out) { write_page(out); });
 }
 
 }  // namespace glmbslam::eval

@@ -9,6 +9,7 @@
 // (traces the browser drew: SVG trace groups of 2D plots, WebGL objects of 3D scenes) and data-errors (script
 // errors and console.error calls since the page started); each plot's <div class="plot"> gets data-traces.
 #include <cstddef>
+#include <ostream>
 #include <string>
 #include <vector>
 
@@ -37,10 +38,13 @@ class HtmlReport {
 
   /// The complete page.
   std::string html() const;
-  /// Writes html() to `path` atomically; throws InputError naming the file on failure.
+  /// Writes html() to `path` atomically (streamed: the page is never held in memory whole); throws
+  /// InputError naming the file on failure.
   void write(const std::string& path) const;
 
  private:
+  void write_page(std::ostream& out) const;
+
   std::string title_, subtitle_;
   nlohmann::json blocks_ = nlohmann::json::array();
   std::size_t plots_ = 0, traces_ = 0;

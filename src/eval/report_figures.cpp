@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <functional>
+#include <utility>
 
 #include "eval/kitti_metric.hpp"
 
@@ -27,9 +28,9 @@ json path_trace_3d(const ReportPath& p) {
   return {{"type", "scatter3d"},
           {"mode", "lines"},
           {"name", p.name},
-          {"x", x},
-          {"y", y},
-          {"z", z},
+          {"x", std::move(x)},
+          {"y", std::move(y)},
+          {"z", std::move(z)},
           {"line", {{"color", p.colour}, {"width", 4}}}};
 }
 
@@ -55,9 +56,9 @@ std::string landmark_hover(LandmarkLabels labels) {
   return "landmark %{customdata[0]}<br>existence %{customdata[1]}<extra></extra>";
 }
 
-json colour_by_existence(const json& existence, bool colour_bar) {
-  json marker = {{"size", 2},   {"color", existence}, {"colorscale", "Viridis"},
-                 {"cmin", 0.0}, {"cmax", 1.0},        {"showscale", colour_bar}};
+json colour_by_existence(json existence, bool colour_bar) {
+  json marker = {{"size", 2},   {"color", std::move(existence)}, {"colorscale", "Viridis"}, {"cmin", 0.0},
+                 {"cmax", 1.0}, {"showscale", colour_bar}};
   if (colour_bar) marker["colorbar"] = {{"title", {{"text", "existence"}}}, {"thickness", 14}};
   return marker;
 }
@@ -78,17 +79,17 @@ json landmark_trace(const std::string& type, const std::string& name, const std:
     existence.push_back(std::round(map[i].existence * 1000.0) / 1000.0);
     custom.push_back(landmark_customdata(map[i], labels));
   }
-  json marker = colour_by_existence(existence, colour_bar);
+  json marker = colour_by_existence(std::move(existence), colour_bar);
   marker["size"] = size;
   json trace = {{"type", type},
                 {"mode", "markers"},
                 {"name", name},
-                {"x", x},
-                {"y", y},
-                {"customdata", custom},
+                {"x", std::move(x)},
+                {"y", std::move(y)},
+                {"customdata", std::move(custom)},
                 {"hovertemplate", landmark_hover(labels)},
-                {"marker", marker}};
-  if (type == "scatter3d") trace["z"] = z;
+                {"marker", std::move(marker)}};
+  if (type == "scatter3d") trace["z"] = std::move(z);
   return trace;
 }
 
@@ -149,7 +150,7 @@ void add_map_and_paths(HtmlReport& report, const std::vector<io::MapPoint>& map,
                       ? "Camera paths (3D: drag to rotate, scroll to zoom)"
                       : "Map and camera paths (3D: drag to rotate, scroll to zoom; landmarks coloured "
                         "by existence)",
-                  traces3d, {{"scene", scene}, {"legend", {{"x", 0.0}, {"y", 1.0}}}}, 700);
+                  std::move(traces3d), {{"scene", scene}, {"legend", {{"x", 0.0}, {"y", 1.0}}}}, 700);
 
   // Top view: at most kTopViewLandmarks landmarks (SVG).
   const std::size_t shown = std::min(map.size(), kTopViewLandmarks);
@@ -166,7 +167,7 @@ void add_map_and_paths(HtmlReport& report, const std::vector<io::MapPoint>& map,
   for (const auto& p : drawn) top.push_back(path_trace_top(p));
   json layout = axes_layout("x right [m]", "z forward [m]");
   layout["yaxis"]["scaleanchor"] = "x";
-  report.add_plot("Top view", top, layout, 650);
+  report.add_plot("Top view", std::move(top), std::move(layout), 650);
 }
 
 void add_trajectory_errors(HtmlReport& report, const PoseList& ground_truth,
@@ -177,7 +178,7 @@ void add_trajectory_errors(HtmlReport& report, const PoseList& ground_truth,
   for (const auto& e : evaluations) {
     errors.push_back(line_trace(e.name, distance, e.evaluation->ate.se3_errors_m, e.colour));
   }
-  report.add_plot("Position error along the path (after SE(3) alignment)", errors,
+  report.add_plot("Position error along the path (after SE(3) alignment)", std::move(errors),
                   axes_layout("distance along the ground truth [m]", "position error [m]"));
 
   json t_rel = json::array(), r_rel = json::array();
@@ -194,12 +195,12 @@ void add_trajectory_errors(HtmlReport& report, const PoseList& ground_truth,
     }
     json tt = line_trace(e.name, len, t, e.colour), rt = line_trace(e.name, len, r, e.colour);
     tt["mode"] = rt["mode"] = "lines+markers";
-    t_rel.push_back(tt);
-    r_rel.push_back(rt);
+    t_rel.push_back(std::move(tt));
+    r_rel.push_back(std::move(rt));
   }
-  report.add_plot("KITTI translation error per segment length (" + lengths + " lengths)", t_rel,
+  report.add_plot("KITTI translation error per segment length (" + lengths + " lengths)", std::move(t_rel),
                   axes_layout("segment length [m]", "t_rel [%]"), 380);
-  report.add_plot("KITTI rotation error per segment length (" + lengths + " lengths)", r_rel,
+  report.add_plot("KITTI rotation error per segment length (" + lengths + " lengths)", std::move(r_rel),
                   axes_layout("segment length [m]", "r_rel [deg/100 m]"), 380);
 }
 
@@ -216,13 +217,13 @@ void add_plane_view(HtmlReport& report, const std::string& title, const std::vec
       t["mode"] = "markers";
       t["marker"] = {{"color", s.colour}, {"size", 4}};
     }
-    traces.push_back(t);
+    traces.push_back(std::move(t));
   }
   json layout = axes_layout("x [m]", "y [m]");
   layout["yaxis"]["scaleanchor"] = "x";
   layout["legend"] = {
       {"x", 0.01}, {"y", 0.99}, {"bgcolor", "rgba(255,255,255,0.7)"}};  // clear of the colour bar
-  report.add_plot(title, traces, layout, 650);
+  report.add_plot(title, std::move(traces), std::move(layout), 650);
 }
 
 std::vector<std::vector<std::string>> metrics_rows(const nlohmann::json& metrics, std::size_t max_array,
