@@ -37,12 +37,15 @@ RefinementStage::RefinementStage(const StereoConfig& config, const StereoCalibra
     : settings_(config.refine),
       motion_(config.motion),
       model_(calibration, config.measurement),
+      automatic_pixel_sigma_(config.pixel_sigma.automatic),
       window_solver_(motion_, model_, with_rounds(config.refine.ml, config.refine.window_rounds)),
       final_solver_(motion_, model_, config.refine.ml) {}
 
 void RefinementStage::on_frame(const FrameOutcome& frame) {
   if (frame.filter == nullptr || frame.filter_step == nullptr) return;  // no backend: nothing to refine
   const FilterStep& step = *frame.filter_step;
+  // measurement.pixel_sigma auto: the filter's σ (the VO's estimate); the solvers' model copies share it
+  if (automatic_pixel_sigma_) model_.set_pixel_sigma(frame.vo.pixel_sigma);
   scans_.emplace_back(step.Z.begin(), step.Z.end());
   controls_.push_back(step.control);
   filter_poses_.push_back(frame.filter->pose());

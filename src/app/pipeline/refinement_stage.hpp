@@ -37,6 +37,7 @@ class RefinementStage : public PipelineStage {
   const RefineSettings& settings_;
   backend::Se3Motion motion_;
   backend::StereoMeasurementModel model_;
+  bool automatic_pixel_sigma_;  ///< measurement.pixel_sigma auto: follow the filter's σ
   backend::StereoMlSlam window_solver_, final_solver_;
   backend::StereoMlSlam::ControlList controls_;
   std::vector<backend::StereoMlSlam::MeasurementSet> scans_;
