@@ -98,11 +98,15 @@ EurocDataset::EurocDataset(const std::string& path, const std::string& ground_tr
         mav.string(), pairs.size(), left.size() - pairs.size(), right.size() - pairs.size());
   }
   std::vector<std::int64_t> times_ns;
+  left_files_ = ImageFileList(cam0 / "data");
+  right_files_ = ImageFileList(cam1 / "data");
   for (const auto& [i, j] : pairs) {
-    left_files_.push_back(cam0 / "data" / left[i].filename);
-    right_files_.push_back(cam1 / "data" / right[j].filename);
-    detail::require_file(left_files_.back(), "image listed in " + (cam0 / "data.csv").string());
-    detail::require_file(right_files_.back(), "image listed in " + (cam1 / "data.csv").string());
+    left_files_.push_back(left[i].filename);
+    right_files_.push_back(right[j].filename);
+    detail::require_file(left_files_.path(left_files_.size() - 1),
+                         "image listed in " + (cam0 / "data.csv").string());
+    detail::require_file(right_files_.path(right_files_.size() - 1),
+                         "image listed in " + (cam1 / "data.csv").string());
     times_ns.push_back(tl[i]);
     timestamps_.push_back(static_cast<double>(tl[i] - tl.front()) * 1e-9);
   }

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "io/euroc_files.hpp"
+#include "io/image_file_list.hpp"
 #include "io/stereo_dataset.hpp"
 #include "io/stereo_rectification.hpp"
 
@@ -59,8 +60,8 @@ class EurocDataset : public StereoDataset {
   std::vector<double> timestamps_;
   std::optional<PoseList> ground_truth_;
   std::vector<char> ground_truth_mask_;
-  std::vector<std::filesystem::path> left_files_;
-  std::vector<std::filesystem::path> right_files_;
+  ImageFileList left_files_;
+  ImageFileList right_files_;
   int raw_width_ = 0, raw_height_ = 0;
 };
 

@@ -36,9 +36,9 @@ bool is_blank_line(const std::string& line) {
   return line.find_first_not_of(" \t\r") == std::string::npos;
 }
 
-StereoFrame read_stereo_frame(const std::string& name, std::size_t i, const std::vector<fs::path>& left,
-                              const std::vector<fs::path>& right, const std::vector<double>& timestamps,
-                              int width, int height) {
+StereoFrame read_stereo_frame(const std::string& name, std::size_t i, const ImageFileList& left,
+                              const ImageFileList& right, const std::vector<double>& timestamps, int width,
+                              int height) {
   if (i >= left.size()) {
     throw InputError(
         name, "frame " + std::to_string(i) + " out of range (" + std::to_string(left.size()) + " frames)");
@@ -46,8 +46,8 @@ StereoFrame read_stereo_frame(const std::string& name, std::size_t i, const std:
   StereoFrame frame;
   frame.index = i;
   frame.timestamp = timestamps[i];
-  frame.left = read_gray_image(left[i], width, height);
-  frame.right = read_gray_image(right[i], width, height);
+  frame.left = read_gray_image(left.path(i), width, height);
+  frame.right = read_gray_image(right.path(i), width, height);
   return frame;
 }
 
@@ -63,16 +63,18 @@ void require_file(const fs::path& file, const std::string& what) {
   if (!fs::is_regular_file(file, ec)) throw InputError(file.string(), what + " is not a regular file");
 }
 
-std::vector<fs::path> list_png_files(const fs::path& dir) {
+ImageFileList list_png_files(const fs::path& dir) {
   require_directory(dir, "image folder");
-  std::vector<fs::path> files;
+  std::vector<std::string> names;
   std::error_code ec;
   for (const auto& entry : fs::directory_iterator(dir, ec)) {
-    if (entry.path().extension() == ".png") files.push_back(entry.path());
+    if (entry.path().extension() == ".png") names.push_back(entry.path().filename().string());
   }
   if (ec) throw InputError(dir.string(), "cannot list image folder (" + ec.message() + ")");
-  if (files.empty()) throw InputError(dir.string(), "image folder contains no .png image");
-  std::sort(files.begin(), files.end());
+  if (names.empty()) throw InputError(dir.string(), "image folder contains no .png image");
+  std::sort(names.begin(), names.end());
+  ImageFileList files(dir);
+  for (auto& n : names) files.push_back(std::move(n));
   return files;
 }
 

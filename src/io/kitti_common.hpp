@@ -9,6 +9,7 @@
 #include <opencv2/core.hpp>
 
 #include "core/types.hpp"
+#include "io/image_file_list.hpp"
 #include "io/stereo_dataset.hpp"
 
 namespace glmbslam::io::detail {
@@ -23,9 +24,9 @@ bool parse_number_list(const std::string& text, std::vector<double>& out);
 /// True if the line holds only white space.
 bool is_blank_line(const std::string& line);
 
-/// Sorted list of the *.png files in `dir`. Throws InputError naming `dir` if it is not a folder or has no
+/// The *.png files in `dir`, sorted by name. Throws InputError naming `dir` if it is not a folder or has no
 /// PNG.
-std::vector<std::filesystem::path> list_png_files(const std::filesystem::path& dir);
+ImageFileList list_png_files(const std::filesystem::path& dir);
 
 /// Checks that `dir` exists and is a folder; throws InputError naming it otherwise (`what` describes the
 /// folder).
@@ -41,10 +42,9 @@ cv::Mat read_gray_image(const std::filesystem::path& file, int width = 0, int he
 /// Frame i of a stereo image list (its timestamp and both 8-bit images of width×height when width > 0).
 /// Throws InputError naming `name` if i is out of range, or naming the image file if it is missing or
 /// unreadable.
-StereoFrame read_stereo_frame(const std::string& name, std::size_t i,
-                              const std::vector<std::filesystem::path>& left,
-                              const std::vector<std::filesystem::path>& right,
-                              const std::vector<double>& timestamps, int width, int height);
+StereoFrame read_stereo_frame(const std::string& name, std::size_t i, const ImageFileList& left,
+                              const ImageFileList& right, const std::vector<double>& timestamps, int width,
+                              int height);
 
 /// Sets calib.width/height from the first image and checks that the calibration belongs to images of that
 /// size: the principal point must lie inside the image (a calibration of another camera or resolution usually

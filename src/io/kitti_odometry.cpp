@@ -81,9 +81,9 @@ KittiOdometryDataset::KittiOdometryDataset(const std::string& sequence_dir,
                                        std::to_string(right_files_.size()));
   }
   for (std::size_t i = 0; i < left_files_.size(); ++i) {
-    if (left_files_[i].filename() != right_files_[i].filename()) {
-      throw InputError(right_files_[i].string(), "right image has no left partner (expected " +
-                                                     left_files_[i].filename().string() + ")");
+    if (left_files_.name(i) != right_files_.name(i)) {
+      throw InputError(right_files_.path(i).string(),
+                       "right image has no left partner (expected " + left_files_.name(i) + ")");
     }
   }
   calibration_ = read_kitti_odometry_calibration((dir / "calib.txt").string());
@@ -94,8 +94,8 @@ KittiOdometryDataset::KittiOdometryDataset(const std::string& sequence_dir,
                                      " timestamps but the sequence has " +
                                      std::to_string(left_files_.size()) + " stereo images");
   }
-  detail::fit_calibration_to_image(calibration_, detail::read_gray_image(left_files_.front()),
-                                   (dir / "calib.txt").string(), left_files_.front().string());
+  detail::fit_calibration_to_image(calibration_, detail::read_gray_image(left_files_.path(0)),
+                                   (dir / "calib.txt").string(), left_files_.path(0).string());
 
   ground_truth_path_ = ground_truth_path.empty() ? find_kitti_ground_truth(sequence_dir) : ground_truth_path;
   if (!ground_truth_path_.empty()) {

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "io/image_file_list.hpp"
 #include "io/stereo_dataset.hpp"
 
 namespace glmbslam::io {
@@ -44,8 +45,8 @@ class KittiOdometryDataset : public StereoDataset {
   std::vector<double> timestamps_;
   std::optional<PoseList> ground_truth_;
   std::string ground_truth_path_;
-  std::vector<std::filesystem::path> left_files_;
-  std::vector<std::filesystem::path> right_files_;
+  ImageFileList left_files_;
+  ImageFileList right_files_;
 };
 
 }  // namespace glmbslam::io

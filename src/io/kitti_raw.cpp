@@ -156,13 +156,13 @@ void fill_ground_truth_gaps(PoseList& poses, const std::vector<char>& mask) {
 
 std::optional<PartialGroundTruth> kitti_raw_partial_ground_truth(const std::string& drive_dir,
                                                                  const KittiRawCalibration& calibration,
-                                                                 const std::vector<fs::path>& left_files) {
+                                                                 const ImageFileList& left_files) {
   const fs::path data = fs::path(drive_dir) / "oxts" / "data";
   std::vector<OxtsRecord> records;
   std::vector<char> mask(left_files.size(), 0);
   std::size_t missing = 0;
   for (std::size_t i = 0; i < left_files.size(); ++i) {
-    const fs::path file = data / (left_files[i].stem().string() + ".txt");
+    const fs::path file = data / (fs::path(left_files.name(i)).stem().string() + ".txt");
     std::error_code ec;
     if (!fs::exists(file, ec)) {
       ++missing;
@@ -201,9 +201,9 @@ KittiRawDataset::KittiRawDataset(const std::string& drive_dir, const std::string
                                        std::to_string(right_files_.size()));
   }
   for (std::size_t i = 0; i < left_files_.size(); ++i) {
-    if (left_files_[i].filename() != right_files_[i].filename()) {
-      throw InputError(right_files_[i].string(), "right image has no left partner (expected " +
-                                                     left_files_[i].filename().string() + ")");
+    if (left_files_.name(i) != right_files_.name(i)) {
+      throw InputError(right_files_.path(i).string(),
+                       "right image has no left partner (expected " + left_files_.name(i) + ")");
     }
   }
   const std::string times_path = (dir / "image_00" / "timestamps.txt").string();
@@ -214,9 +214,9 @@ KittiRawDataset::KittiRawDataset(const std::string& drive_dir, const std::string
                                      " stereo images");
   }
   calibration_ = read_kitti_raw_calibration(kitti_raw_date_dir(drive_dir).string());
-  detail::fit_calibration_to_image(calibration_.stereo, detail::read_gray_image(left_files_.front()),
+  detail::fit_calibration_to_image(calibration_.stereo, detail::read_gray_image(left_files_.path(0)),
                                    (kitti_raw_date_dir(drive_dir) / "calib_cam_to_cam.txt").string(),
-                                   left_files_.front().string());
+                                   left_files_.path(0).string());
 
   std::error_code ec;
   if (!ground_truth_path.empty()) {

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "io/image_file_list.hpp"
 #include "io/stereo_dataset.hpp"
 
 namespace glmbslam::io {
@@ -41,9 +42,9 @@ struct PartialGroundTruth {
 /// (oxts/data/<stem>.txt), relative to the first frame that has one. A missing or unreadable record is
 /// logged and leaves its frame without ground truth (the nearest measured pose as placeholder). Returns
 /// std::nullopt when no frame has a record.
-std::optional<PartialGroundTruth> kitti_raw_partial_ground_truth(
-    const std::string& drive_dir, const KittiRawCalibration& calibration,
-    const std::vector<std::filesystem::path>& left_files);
+std::optional<PartialGroundTruth> kitti_raw_partial_ground_truth(const std::string& drive_dir,
+                                                                 const KittiRawCalibration& calibration,
+                                                                 const ImageFileList& left_files);
 
 /// Replaces the poses of frames without ground truth (mask 0) by the nearest earlier measured pose (the first
 /// measured one before it).
@@ -75,8 +76,8 @@ class KittiRawDataset : public StereoDataset {
   std::vector<double> timestamps_;
   std::optional<PoseList> ground_truth_;
   std::vector<char> ground_truth_mask_;
-  std::vector<std::filesystem::path> left_files_;
-  std::vector<std::filesystem::path> right_files_;
+  ImageFileList left_files_;
+  ImageFileList right_files_;
 };
 
 }  // namespace glmbslam::io
