@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 namespace glmbslam::frontend {
 
@@ -26,9 +27,8 @@ double chi2_3_quantile(double p) {
   return 0.5 * (lo + hi);
 }
 
-double coverage_chi2_3_scale(const std::vector<double>& s, double coverage) {
-  if (s.empty()) return std::nan("");
-  std::vector<double> v(s);
+double coverage_chi2_3_scale(std::vector<double> v, double coverage) {
+  if (v.empty()) return std::nan("");
   auto quantile = [&v](double p) {
     const auto k = static_cast<std::ptrdiff_t>(std::floor(p * static_cast<double>(v.size() - 1)));
     std::nth_element(v.begin(), v.begin() + k, v.end());
@@ -67,7 +67,7 @@ bool PixelNoiseEstimator::add_frame(const std::vector<double>& unit_chi2, int fi
     std::vector<double> all;
     all.reserve(pooled_);
     for (const auto& f : frames_) all.insert(all.end(), f.begin(), f.end());
-    raw_sigma_ = std::sqrt(coverage_chi2_3_scale(all, options_.coverage));
+    raw_sigma_ = std::sqrt(coverage_chi2_3_scale(std::move(all), options_.coverage));
     sigma_ = std::clamp(raw_sigma_, options_.floor, options_.ceiling);
   }
   return true;

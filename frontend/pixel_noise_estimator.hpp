@@ -43,7 +43,7 @@ double chi2_3_quantile(double p);
 /// σ² such that a fraction `coverage` of the samples s_i lies inside σ² times the `coverage` point of χ²₃
 /// (for s_i ~ σ² χ²₃ that is σ²), after removing gross outliers beyond 400 times the median scale (see the
 /// file comment). NaN for an empty input.
-double coverage_chi2_3_scale(const std::vector<double>& s, double coverage);
+double coverage_chi2_3_scale(std::vector<double> s, double coverage);
 
 class PixelNoiseEstimator {
  public:
