@@ -4,6 +4,7 @@
 // window online and over the whole run at the end. YAML mapping `refine` of the stereo config
 // (config/kitti*.yaml document every key); its child `mlslam` holds the solver's settings
 // (backend/mlslam/mlslam_config.hpp).
+#include "app/pipeline/loop_detector.hpp"
 #include "backend/mlslam/mlslam_config.hpp"
 #include "core/config_node.hpp"
 
@@ -15,6 +16,9 @@ struct RefineSettings {
   int every = 5;           ///< solve the window every this many frames
   bool final_pass = true;  ///< key `final`: one solve over the whole run at the end (replaces the online one)
   int window_rounds = 3;   ///< EM rounds of a window solve (the final pass uses mlslam.max_rounds)
+  /// before the final pass, revisits close the loops of the filter's trajectory (pipeline/loop_closing.hpp)
+  bool loop_closure = true;
+  LoopDetectorOptions loop;  ///< key `loop`
   backend::MlSlamConfig ml = default_stereo_mlslam_config();
 
   static backend::MlSlamConfig default_stereo_mlslam_config();

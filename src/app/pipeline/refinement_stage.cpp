@@ -39,7 +39,10 @@ RefinementStage::RefinementStage(const StereoConfig& config, const StereoCalibra
       model_(calibration, config.measurement),
       automatic_pixel_sigma_(config.pixel_sigma.automatic),
       window_solver_(motion_, model_, with_rounds(config.refine.ml, config.refine.window_rounds)),
-      final_solver_(motion_, model_, config.refine.ml) {}
+      final_solver_(motion_, model_, config.refine.ml) {
+  if (config.refine.loop_closure && config.refine.final_pass)
+    loop_closing_.emplace(config.refine.loop, calibration);
+}
 
 void RefinementStage::on_frame(const FrameOutcome& frame) {
   if (frame.filter == nullptr || frame.filter_step == nullptr) return;  // no backend: nothing to refine
@@ -47,6 +50,7 @@ void RefinementStage::on_frame(const FrameOutcome& frame) {
   // measurement.pixel_sigma auto: the filter's σ (the VO's estimate); the solvers' model copies share it
   if (automatic_pixel_sigma_) model_.set_pixel_sigma(frame.vo.pixel_sigma);
   scans_.emplace_back(step.Z.begin(), step.Z.end());
+  if (loop_closing_ && frame.work.loaded) loop_closing_->add_frame(frame.k, frame.work.features.measurements);
   controls_.push_back(step.control);
   filter_poses_.push_back(frame.filter->pose());
   const std::size_t k = filter_poses_.size() - 1;
@@ -93,10 +97,13 @@ void RefinementStage::on_finish(RunRecord& record) {
   // an interrupted run keeps the online result: the final pass is the long part
   if (!settings_.final_pass || record.interrupted || record.slam_poses.size() != refined_.size()) return;
   Stopwatch watch;
-  backend::StereoMlSlam::PoseList poses(record.slam_poses.begin(), record.slam_poses.end());
+  PoseList start = record.slam_poses;
+  std::vector<io::MapPoint> start_map = record.map;
+  if (loop_closing_) loop_closing_->apply(start, start_map, controls_, stats);
+  backend::StereoMlSlam::PoseList poses(start.begin(), start.end());
   backend::StereoMlSlam::LandmarkList map;
-  map.reserve(record.map.size());
-  for (const auto& p : record.map) map.push_back(p.position);
+  map.reserve(start_map.size());
+  for (const auto& p : start_map) map.push_back(p.position);
   const backend::MlSlamReport r = final_solver_.solve(poses, controls_, scans_, map);
   record.refined_poses = PoseList(poses.begin(), poses.end());
   record.refined_map.clear();

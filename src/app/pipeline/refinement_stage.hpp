@@ -11,8 +11,10 @@
 //   final:  one solve over the whole run from the filter's final trajectory and map (`refine.final`).
 // The stage uses only what the pipeline hands every stage (FrameOutcome): the filter's pose, trajectory, map
 // and its measurement sets and controls.
+#include <optional>
 #include <vector>
 
+#include "app/pipeline/loop_closing.hpp"
 #include "app/pipeline/pipeline_stage.hpp"
 #include "app/stereo_config.hpp"
 #include "backend/mlslam/stereo_ml_slam.hpp"
@@ -39,6 +41,7 @@ class RefinementStage : public PipelineStage {
   backend::StereoMeasurementModel model_;
   bool automatic_pixel_sigma_;  ///< measurement.pixel_sigma auto: follow the filter's σ
   backend::StereoMlSlam window_solver_, final_solver_;
+  std::optional<LoopClosing> loop_closing_;  ///< refine.loop_closure
   backend::StereoMlSlam::ControlList controls_;
   std::vector<backend::StereoMlSlam::MeasurementSet> scans_;
   PoseList filter_poses_;  ///< the filter's pose at each frame, as it was online
