@@ -11,7 +11,9 @@
 namespace glmbslam::app {
 namespace {
 
-StereoCalibration kitti_like() { return sim::named_kitti_calibration("kitti00-02"); }
+StereoCalibration kitti_like() {
+  return sim::named_kitti_calibration("kitti00-02");
+}
 
 std::array<std::uint8_t, 32> random_descriptor(RandomStream& rng) {
   std::array<std::uint8_t, 32> d{};
@@ -78,7 +80,6 @@ LoopKeyframe keyframe_of(std::size_t k, const frontend::StereoMeasurementList& m
   for (const auto& m : measurements) {
     if (m.point.z() > LoopDetectorOptions{}.max_depth_m) continue;
     kf.points.push_back(m.point);
-    kf.z.push_back(m.z);
     kf.descriptors.push_back(m.descriptor);
   }
   return kf;

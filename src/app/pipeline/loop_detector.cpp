@@ -55,7 +55,8 @@ bool reprojects(const Pose3& T_ab, const LoopKeyframe& a, int i, const LoopKeyfr
                 const StereoCamera& camera, double inlier_px) {
   const Eigen::Vector3d p = T_ab * b.points[static_cast<std::size_t>(j)];
   if (p.z() < 0.1) return false;
-  return (camera.project(p) - a.z[static_cast<std::size_t>(i)]).cwiseAbs().maxCoeff() <= inlier_px;
+  const Eigen::Vector3d z_a = camera.project(a.points[static_cast<std::size_t>(i)]);  // a's measurement
+  return (camera.project(p) - z_a).cwiseAbs().maxCoeff() <= inlier_px;
 }
 
 std::vector<std::pair<int, int>> inliers_of(const Pose3& T_ab,
@@ -92,7 +93,7 @@ Pose3 refine_reprojection(Pose3 T, const std::vector<std::pair<int, int>>& pairs
       dp.leftCols<3>() = T.linear();
       dp.rightCols<3>() = -T.linear() * skew(X);
       const Eigen::Matrix<double, 3, 6> J = camera.project_jacobian(p) * dp;
-      const Eigen::Vector3d r = camera.project(p) - a.z[static_cast<std::size_t>(i)];
+      const Eigen::Vector3d r = camera.project(p) - camera.project(a.points[static_cast<std::size_t>(i)]);
       H += J.transpose() * J;
       g += J.transpose() * r;
     }
@@ -149,7 +150,6 @@ void LoopDetector::add_frame(std::size_t k, const frontend::StereoMeasurementLis
   kf.k = k;
   for (std::size_t i : order) {
     kf.points.push_back(measurements[i].point);
-    kf.z.push_back(measurements[i].z);
     kf.descriptors.push_back(measurements[i].descriptor);
   }
   keyframes_.push_back(std::move(kf));

@@ -44,11 +44,11 @@ struct LoopDetectorOptions {
   double sigma_rotation_rad = 0.005;
 };
 
-/// One keyframe: its frame position in the run and its stereo points with descriptors and measurements.
+/// One keyframe: its frame position in the run and its stereo points with their descriptors. The stereo
+/// measurement of a point is its projection (the point was triangulated from it), so it is not kept.
 struct LoopKeyframe {
   std::size_t k = 0;
   std::vector<Eigen::Vector3d, Eigen::aligned_allocator<Eigen::Vector3d>> points;  ///< left camera frame
-  std::vector<Eigen::Vector3d, Eigen::aligned_allocator<Eigen::Vector3d>> z;       ///< (u_L, v, u_R)
   std::vector<std::array<std::uint8_t, 32>> descriptors;
 };
 
