@@ -39,7 +39,10 @@ RefinementStage::RefinementStage(const StereoConfig& config, const StereoCalibra
       model_(calibration, config.measurement),
       automatic_pixel_sigma_(config.pixel_sigma.automatic),
       window_solver_(motion_, model_, with_rounds(config.refine.ml, config.refine.window_rounds)),
-      final_solver_(motion_, model_, config.refine.ml) {}
+      final_solver_(motion_, model_, config.refine.ml) {
+  if (backend::StereoBatchMlSlam::supports(config.refine.ml))
+    batch_solver_.emplace(motion_, model_, config.refine.ml);
+}
 
 void RefinementStage::on_frame(const FrameOutcome& frame) {
   if (frame.filter == nullptr || frame.filter_step == nullptr) return;  // no backend: nothing to refine
@@ -97,7 +100,8 @@ void RefinementStage::on_finish(RunRecord& record) {
   backend::StereoMlSlam::LandmarkList map;
   map.reserve(record.map.size());
   for (const auto& p : record.map) map.push_back(p.position);
-  const backend::MlSlamReport r = final_solver_.solve(poses, controls_, scans_, map);
+  const backend::MlSlamReport r = batch_solver_ ? batch_solver_->solve(poses, controls_, scans_, map)
+                                                : final_solver_.solve(poses, controls_, scans_, map);
   record.refined_poses = PoseList(poses.begin(), poses.end());
   record.refined_map.clear();
   for (std::size_t j = 0; j < map.size(); ++j)

@@ -11,10 +11,12 @@
 //   final:  one solve over the whole run from the filter's final trajectory and map (`refine.final`).
 // The stage uses only what the pipeline hands every stage (FrameOutcome): the filter's pose, trajectory, map
 // and its measurement sets and controls.
+#include <optional>
 #include <vector>
 
 #include "app/pipeline/pipeline_stage.hpp"
 #include "app/stereo_config.hpp"
+#include "backend/mlslam/stereo_batch_ml_slam.hpp"
 #include "backend/mlslam/stereo_ml_slam.hpp"
 
 namespace glmbslam::app {
@@ -39,6 +41,9 @@ class RefinementStage : public PipelineStage {
   backend::StereoMeasurementModel model_;
   bool automatic_pixel_sigma_;  ///< measurement.pixel_sigma auto: follow the filter's σ
   backend::StereoMlSlam window_solver_, final_solver_;
+  /// The final pass when it has no cardinality moves (one Ceres problem for all its rounds); else
+  /// final_solver_.
+  std::optional<backend::StereoBatchMlSlam> batch_solver_;
   backend::StereoMlSlam::ControlList controls_;
   std::vector<backend::StereoMlSlam::MeasurementSet> scans_;
   PoseList filter_poses_;  ///< the filter's pose at each frame, as it was online
