@@ -17,6 +17,7 @@
 
 #include "backend/mlslam/ceres_factors_3d.hpp"
 #include "backend/mlslam/mlslam_config.hpp"
+#include "backend/mlslam/stereo_fill_reducing_ordering.hpp"
 #include "backend/models/se3_motion.hpp"
 #include "backend/models/stereo_measurement_model.hpp"
 #include "core/gaussian.hpp"
@@ -77,7 +78,14 @@ class StereoMStepProblem {
     for (std::size_t j = 0; j < map.size(); ++j) Eigen::Map<Eigen::Vector3d>{landmark(j)} = map[j];
     if (factors_.empty()) return;  // no measurement factor: the motion factors hold at the start
     ceres::Solver::Options o = options_;
-    if (o.linear_solver_type != ceres::SPARSE_NORMAL_CHOLESKY) {
+    if (o.linear_solver_type == ceres::SPARSE_NORMAL_CHOLESKY) {
+      // the nested dissection order, recomputed when pairs were added
+      if (ordered_pairs_ != factors_.size()) {
+        fill_reducing_ordering_ = nested_dissection_ordering(poses.size(), map.size());
+        ordered_pairs_ = factors_.size();
+      }
+      o.linear_solver_ordering = fill_reducing_ordering_;
+    } else {
       // bundle-adjustment shape: the landmarks (group 0) are eliminated first
       auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
       for (std::size_t j = 0; j < map.size(); ++j)
@@ -113,6 +121,28 @@ class StereoMStepProblem {
     return o;
   }
 
+  /// Every parameter block of the problem in its own elimination group, in nested dissection order of the
+  /// normal equations' block graph (poses 0..K−1, then landmarks K + j; motion and pair factors as edges).
+  std::shared_ptr<ceres::ParameterBlockOrdering> nested_dissection_ordering(std::size_t K, std::size_t M) {
+    std::vector<std::vector<int>> adjacency(K + M);
+    for (std::size_t i = 0; i < K; ++i) {
+      if (i > 0)
+        adjacency[i].push_back(static_cast<int>(i - 1)), adjacency[i - 1].push_back(static_cast<int>(i));
+      for (const auto& pair : pairs_of_scan_[i]) {
+        adjacency[i].push_back(static_cast<int>(K) + pair.first);
+        adjacency[K + static_cast<std::size_t>(pair.first)].push_back(static_cast<int>(i));
+      }
+    }
+    auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
+    int group = 0;
+    for (int b : nested_dissection_order(adjacency)) {
+      const auto node = static_cast<std::size_t>(b);
+      double* block = node < K ? pose(node) : landmark(node - K);
+      if (problem_.HasParameterBlock(block)) ordering->AddElementToGroup(block, group++);
+    }
+    return ordering;
+  }
+
   double* pose(std::size_t i) { return poses_.data() + i * kPose3BlockSize; }
   double* landmark(int j) { return landmarks_.data() + static_cast<std::size_t>(j) * 3; }
   double* landmark(std::size_t j) { return landmarks_.data() + j * 3; }
@@ -137,6 +167,8 @@ class StereoMStepProblem {
   std::vector<double> poses_, landmarks_;                                ///< the parameter blocks
   std::vector<std::vector<std::pair<int, std::size_t>>> pairs_of_scan_;  ///< (landmark, pair) per scan
   std::vector<StereoPairFactor*> factors_;
+  std::shared_ptr<ceres::ParameterBlockOrdering> fill_reducing_ordering_;
+  std::size_t ordered_pairs_ = 0;  ///< factors_.size() when fill_reducing_ordering_ was computed
   std::vector<Eigen::Vector4d, Eigen::aligned_allocator<Eigen::Vector4d>> sums_;  ///< (Σ β z, Σ β) per pair
 };
 

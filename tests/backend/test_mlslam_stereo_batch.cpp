@@ -6,6 +6,7 @@
 #include <memory>
 
 #include "backend/mlslam/stereo_batch_ml_slam.hpp"
+#include "backend/mlslam/stereo_fill_reducing_ordering.hpp"
 #include "core/parallel.hpp"
 #include "core/random.hpp"
 #include "mlslam_stereo_problem.hpp"
@@ -158,6 +159,22 @@ TEST(MlSlamStereoBatch, SameInputSameOutputAtAnyThreadCount) {
   MlSlamConfig c = stereo_config();
   c.cardinality_moves = false;
   test::expect_same_output_at_1_and_2_threads(StereoBatchMlSlam(p.motion, p.model, c), p);
+}
+
+/// Nested dissection orders every node once; on a path it eliminates a middle node (a separator) last, not an
+/// end as the natural order does.
+TEST(MlSlamStereoBatch, NestedDissectionOrdersEveryNodeOnce) {
+  const int n = 101;
+  std::vector<std::vector<int>> path(n);
+  for (int i = 1; i < n; ++i) path[i].push_back(i - 1), path[i - 1].push_back(i);
+  std::vector<int> order = nested_dissection_order(path);
+  ASSERT_EQ(order.size(), static_cast<std::size_t>(n));
+  const int last = order.back();
+  EXPECT_GT(last, 10);
+  EXPECT_LT(last, n - 11);
+  std::sort(order.begin(), order.end());
+  for (int i = 0; i < n; ++i) EXPECT_EQ(order[static_cast<std::size_t>(i)], i);
+  EXPECT_TRUE(nested_dissection_order({}).empty());
 }
 
 TEST(MlSlamStereoBatch, RefusesWhatOnlyRfsMlSlamDoes) {
