@@ -106,6 +106,45 @@ struct StereoProjectionResidual {
   }
 };
 
+/// r = W (z − π(x⁻¹ m)) and, where `jacobians` asks for them, its analytic Jacobians (below); `parameters`
+/// are the pose block and the landmark, as Ceres hands them to CostFunction::Evaluate.
+inline void evaluate_stereo_projection(const StereoCamera& camera, const Eigen::Vector3d& z,
+                                       const Eigen::Matrix3d& W, double const* const* parameters,
+                                       double* residuals, double** jacobians) {
+  const Eigen::Map<const Eigen::Quaterniond> q(parameters[0]);
+  const Eigen::Map<const Eigen::Vector3d> t(parameters[0] + 4), m(parameters[1]);
+  const Eigen::Vector3d v = m - t;
+  const Eigen::Vector3d p = q.conjugate() * v;
+  const double iz = 1.0 / p.z();
+  const double fx = camera.fx, fy = camera.fy;
+  const Eigen::Vector3d zhat(fx * p.x() * iz + camera.cx, fy * p.y() * iz + camera.cy,
+                             fx * (p.x() - camera.baseline) * iz + camera.cx);
+  Eigen::Map<Eigen::Vector3d>{residuals} = W * (z - zhat);
+  if (jacobians == nullptr) return;
+  Eigen::Matrix3d dpi;  // ∂π/∂p
+  dpi << fx * iz, 0.0, -fx * p.x() * iz * iz, 0.0, fy * iz, -fy * p.y() * iz * iz, fx * iz, 0.0,
+      -fx * (p.x() - camera.baseline) * iz * iz;
+  const Eigen::Matrix3d dr_dp = -W * dpi;
+  const Eigen::Matrix3d Rt = q.toRotationMatrix().transpose();
+  if (jacobians[0] != nullptr) {
+    Eigen::Map<Eigen::Matrix<double, 3, kPose3BlockSize, Eigen::RowMajor>> J(jacobians[0]);
+    const Eigen::Vector3d u = q.vec();
+    const double w = q.w();
+    Eigen::Matrix3d v_cross;
+    v_cross << 0.0, -v.z(), v.y(), v.z(), 0.0, -v.x(), -v.y(), v.x(), 0.0;
+    const Eigen::Matrix3d dp_du = 2.0 * u.dot(v) * Eigen::Matrix3d::Identity() + 2.0 * u * v.transpose() -
+                                  2.0 * v * u.transpose() + 2.0 * w * v_cross;
+    const Eigen::Vector3d dp_dw = 2.0 * w * v - 2.0 * u.cross(v);
+    J.block<3, 3>(0, 0) = dr_dp * dp_du;
+    J.col(3) = dr_dp * dp_dw;
+    J.block<3, 3>(0, 4) = -dr_dp * Rt;
+  }
+  if (jacobians[1] != nullptr) {
+    Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> J(jacobians[1]);
+    J = dr_dp * Rt;
+  }
+}
+
 /// StereoProjectionResidual with analytic Jacobians (the M-step's hot factor: one per gated pair of every
 /// scan). With v = m − t, p = Rᵀ v, R = R(q) = (w² − ‖u‖²) I + 2 u uᵀ + 2 w [u]× for q = (u, w):
 ///   ∂r/∂p = −W ∂π/∂p,  ∂p/∂t = −Rᵀ,  ∂p/∂m = Rᵀ,
@@ -118,38 +157,7 @@ class StereoProjectionFactor : public ceres::SizedCostFunction<3, kPose3BlockSiz
       : camera_(camera), z_(z), W_(W) {}
 
   bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override {
-    const Eigen::Map<const Eigen::Quaterniond> q(parameters[0]);
-    const Eigen::Map<const Eigen::Vector3d> t(parameters[0] + 4), m(parameters[1]);
-    const Eigen::Vector3d v = m - t;
-    const Eigen::Vector3d p = q.conjugate() * v;
-    const double iz = 1.0 / p.z();
-    const double fx = camera_.fx, fy = camera_.fy;
-    const Eigen::Vector3d zhat(fx * p.x() * iz + camera_.cx, fy * p.y() * iz + camera_.cy,
-                               fx * (p.x() - camera_.baseline) * iz + camera_.cx);
-    Eigen::Map<Eigen::Vector3d>{residuals} = W_ * (z_ - zhat);
-    if (jacobians == nullptr) return true;
-    Eigen::Matrix3d dpi;  // ∂π/∂p
-    dpi << fx * iz, 0.0, -fx * p.x() * iz * iz, 0.0, fy * iz, -fy * p.y() * iz * iz, fx * iz, 0.0,
-        -fx * (p.x() - camera_.baseline) * iz * iz;
-    const Eigen::Matrix3d dr_dp = -W_ * dpi;
-    const Eigen::Matrix3d Rt = q.toRotationMatrix().transpose();
-    if (jacobians[0] != nullptr) {
-      Eigen::Map<Eigen::Matrix<double, 3, kPose3BlockSize, Eigen::RowMajor>> J(jacobians[0]);
-      const Eigen::Vector3d u = q.vec();
-      const double w = q.w();
-      Eigen::Matrix3d v_cross;
-      v_cross << 0.0, -v.z(), v.y(), v.z(), 0.0, -v.x(), -v.y(), v.x(), 0.0;
-      const Eigen::Matrix3d dp_du = 2.0 * u.dot(v) * Eigen::Matrix3d::Identity() + 2.0 * u * v.transpose() -
-                                    2.0 * v * u.transpose() + 2.0 * w * v_cross;
-      const Eigen::Vector3d dp_dw = 2.0 * w * v - 2.0 * u.cross(v);
-      J.block<3, 3>(0, 0) = dr_dp * dp_du;
-      J.col(3) = dr_dp * dp_dw;
-      J.block<3, 3>(0, 4) = -dr_dp * Rt;
-    }
-    if (jacobians[1] != nullptr) {
-      Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> J(jacobians[1]);
-      J = dr_dp * Rt;
-    }
+    evaluate_stereo_projection(camera_, z_, W_, parameters, residuals, jacobians);
     return true;
   }
 
@@ -157,6 +165,41 @@ class StereoProjectionFactor : public ceres::SizedCostFunction<3, kPose3BlockSiz
   StereoCamera camera_;
   Eigen::Vector3d z_;
   Eigen::Matrix3d W_;
+};
+
+/// What the pair factors of one M-step problem share: the camera and R^{-1/2}.
+struct StereoFactorContext {
+  StereoCamera camera;
+  Eigen::Matrix3d W_R;
+};
+
+/// The measurement factor of one (pose, landmark) pair with its β-weighted measurements merged (the M-step
+/// objective of paper 004 Eq. 18, summed over the pair's measurements n):
+///   Σ_n β_n ‖W_R (z_n − ẑ)‖² = B ‖W_R (z̄ − ẑ)‖² + Σ_n β_n ‖W_R (z_n − z̄)‖²,  B = Σ_n β_n, z̄ = Σ_n β_n z_n /
+///   B.
+/// The last term depends on neither the pose nor the landmark: the same minimiser, gradient and Gauss–Newton
+/// matrix as one StereoProjectionFactor per measurement. The weights are set between Ceres solves, so one
+/// problem serves every EM round (B = 0: the pair contributes nothing this round).
+class StereoPairFactor : public ceres::SizedCostFunction<3, kPose3BlockSize, 3> {
+ public:
+  explicit StereoPairFactor(const StereoFactorContext* context) : context_(context) {}
+
+  /// z̄ and B of this round.
+  void set(const Eigen::Vector3d& z_bar, double weight) {
+    z_bar_ = z_bar;
+    sqrt_weight_ = std::sqrt(weight);
+  }
+
+  bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override {
+    evaluate_stereo_projection(context_->camera, z_bar_, sqrt_weight_ * context_->W_R, parameters, residuals,
+                               jacobians);
+    return true;
+  }
+
+ private:
+  const StereoFactorContext* context_;
+  Eigen::Vector3d z_bar_ = Eigen::Vector3d::Zero();
+  double sqrt_weight_ = 0.0;
 };
 
 /// The M-step's measurement factor (analytic Jacobians).

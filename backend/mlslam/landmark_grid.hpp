@@ -32,9 +32,15 @@ class LandmarkGrid {
   /// Indices of the landmarks whose cell meets the cube of half-width `radius` around `centre`, ascending
   /// (a superset of those within `radius`).
   std::vector<int> near(const Point& centre, double radius) const {
+    return in_box(centre - Point::Constant(radius), centre + Point::Constant(radius));
+  }
+
+  /// Indices of the landmarks whose cell meets the axis-aligned box [lo, hi], ascending (a superset of those
+  /// inside it).
+  std::vector<int> in_box(const Point& lo_corner, const Point& hi_corner) const {
     std::vector<int> out;
-    const Eigen::Matrix<long long, D, 1> lo = coords(centre - Point::Constant(radius));
-    const Eigen::Matrix<long long, D, 1> hi = coords(centre + Point::Constant(radius));
+    const Eigen::Matrix<long long, D, 1> lo = coords(lo_corner);
+    const Eigen::Matrix<long long, D, 1> hi = coords(hi_corner);
     Eigen::Matrix<long long, D, 1> c = lo;
     while (true) {
       const auto it = cells_.find(key(c));

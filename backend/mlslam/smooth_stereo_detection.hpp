@@ -7,6 +7,8 @@
 // At the border p_D is half its inside value.
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <utility>
 
 #include "backend/models/stereo_measurement_model.hpp"
 
@@ -55,6 +57,28 @@ class SmoothStereoDetection {
     const double margin = config_.border - 14.0 * w_px_;
     return z(0) >= margin && z(0) <= model.image_width() - margin && z(1) >= margin &&
            z(1) <= model.image_height() - margin && z(2) >= margin;
+  }
+
+  /// The world-frame axis-aligned box that holds every m with maybe_in_view(model, x, m): the box of the 8
+  /// corners of the frustum (depth range × image rectangle, both widened by 14 widths), which is convex; 1 mm
+  /// wider against rounding. For a forward camera a few times smaller than the cube of query_radius().
+  std::pair<Eigen::Vector3d, Eigen::Vector3d> view_box(const StereoMeasurementModel& model,
+                                                       const Pose3& x) const {
+    const StereoCamera& c = model.camera();
+    const double margin = config_.border - 14.0 * w_px_;
+    const double depths[2] = {std::max(0.0, config_.min_depth - 14.0 * w_d_),
+                              config_.max_depth + 14.0 * w_d_};
+    const double us[2] = {(margin - c.cx) / c.fx, (model.image_width() - margin - c.cx) / c.fx};
+    const double vs[2] = {(margin - c.cy) / c.fy, (model.image_height() - margin - c.cy) / c.fy};
+    Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+    for (double d : depths)
+      for (double u : us)
+        for (double v : vs) {
+          const Eigen::Vector3d corner = x * Eigen::Vector3d(u * d, v * d, d);
+          lo = lo.cwiseMin(corner);
+          hi = hi.cwiseMax(corner);
+        }
+    return {lo - Eigen::Vector3d::Constant(1e-3), hi + Eigen::Vector3d::Constant(1e-3)};
   }
 
  private:

@@ -17,6 +17,7 @@
 #include "app/pipeline/loop_closing.hpp"
 #include "app/pipeline/pipeline_stage.hpp"
 #include "app/stereo_config.hpp"
+#include "backend/mlslam/stereo_batch_ml_slam.hpp"
 #include "backend/mlslam/stereo_ml_slam.hpp"
 
 namespace glmbslam::app {
@@ -42,6 +43,9 @@ class RefinementStage : public PipelineStage {
   bool automatic_pixel_sigma_;  ///< measurement.pixel_sigma auto: follow the filter's σ
   backend::StereoMlSlam window_solver_, final_solver_;
   std::optional<LoopClosing> loop_closing_;  ///< refine.loop_closure
+  /// The final pass when it has no cardinality moves (one Ceres problem for all its rounds); else
+  /// final_solver_.
+  std::optional<backend::StereoBatchMlSlam> batch_solver_;
   backend::StereoMlSlam::ControlList controls_;
   std::vector<backend::StereoMlSlam::MeasurementSet> scans_;
   PoseList filter_poses_;  ///< the filter's pose at each frame, as it was online
