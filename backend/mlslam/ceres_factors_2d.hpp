@@ -49,25 +49,32 @@ typename Matrix::PlainObject whitening(const Matrix& S) {
   return llt.matrixL().solve(Plain::Identity(S.rows(), S.cols()));
 }
 
-/// r = W (x_i ⊖ f(x_{i−1}, u)) for any 2D motion model (numeric derivatives: the models are double-only).
+/// r = W(x_{i−1}) (x_i ⊖ f(x_{i−1}, u)) with Wᵀ W = P̄(x_{i−1}, u)⁻¹ (Eq. 2), for any 2D motion model
+/// (numeric derivatives: the models are double-only). P̄ is taken at the current x_{i−1}, not held at the
+/// linearisation point: the unicycle's P̄ has almost no lateral variance (regulariser 1e-9 m²), so a P̄ held
+/// while the heading of x_{i−1} moves turns the forward residual into a lateral one that log g of the
+/// E-step penalises and the M-step did not see (l fell after an M-step even from the ground truth).
+/// ‖r‖² = −2 log g − log det(2π P̄), and det P̄ does not depend on the heading of x_{i−1} for the
+/// unicycle, steering and Ackermann models (P̄ = R(θ) P̄_0 R(θ)ᵀ plus a regulariser isotropic in x, y).
 template <class Motion>
 struct MotionResidual {
   const Motion* motion;
   typename Motion::Control u;
-  typename Motion::Covariance W;
   bool operator()(const double* prev, const double* cur, double* r) const {
     const typename Motion::State a(prev[0], prev[1], prev[2]), b(cur[0], cur[1], cur[2]);
     Eigen::Map<Eigen::Vector3d> residual(r);
-    residual = W * Motion::local(b, motion->predict(a, u));
+    residual = whitening(motion->process_noise(a, u)) * Motion::local(b, motion->predict(a, u));
     return true;
   }
 };
 
+/// The motion factor of x_{i−1} → x_i (W, the whitening at the linearisation point, is not used: see
+/// MotionResidual).
 template <class Motion>
 ceres::CostFunction* make_motion_factor(const Motion& motion, const typename Motion::Control& u,
-                                        const typename Motion::Covariance& W) {
+                                        const typename Motion::Covariance& /*W*/) {
   return new ceres::NumericDiffCostFunction<MotionResidual<Motion>, ceres::CENTRAL, 3, 3, 3>(
-      new MotionResidual<Motion>{&motion, u, W});
+      new MotionResidual<Motion>{&motion, u});
 }
 
 /// r = √β W (z − ẑ(x, m)) with the model's analytic Jacobians (H_x is w.r.t. the pose tangent, which is the

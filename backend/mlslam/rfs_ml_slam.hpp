@@ -35,6 +35,7 @@
 #include "backend/mlslam/ceres_factors_2d.hpp"
 #include "backend/mlslam/landmark_grid.hpp"
 #include "backend/mlslam/mlslam_config.hpp"
+#include "backend/mlslam/move_gains.hpp"
 #include "backend/mlslam/scan_likelihood.hpp"
 #include "backend/mlslam/smooth_detection.hpp"
 #include "core/parallel.hpp"
@@ -50,6 +51,7 @@ struct MlSlamReport {
   int births = 0, deaths = 0, merges = 0;        ///< accepted cardinality moves
   double ms = 0.0;
   double e_step_ms = 0.0, m_step_ms = 0.0;  ///< of ms: the E-steps (likelihood and β), the M-steps (Ceres)
+  double moves_ms = 0.0;                    ///< of ms: the cardinality moves (candidates and their Δl)
 };
 
 template <class Motion, class Model, class Parts = PlanarMlSlamParts<Motion, Model>>
@@ -104,7 +106,11 @@ class RfsMlSlam {
       const bool improved = next.log_likelihood > l;
       if (improved || nearest_neighbour()) s = std::move(next);
       int accepted = 0;
-      if (config_.cardinality_moves && !nearest_neighbour()) accepted = cardinality_moves(s, scans, report);
+      if (config_.cardinality_moves && !nearest_neighbour()) {
+        Stopwatch c;
+        accepted = cardinality_moves(s, scans, report);
+        report.moves_ms += c.elapsed_ms();
+      }
       ++report.rounds;
       const double gain = s.log_likelihood - l;
       l = s.log_likelihood;
@@ -408,6 +414,16 @@ class RfsMlSlam {
     return gain;
   }
 
+  /// An upper bound on the Δl of adding the landmark a (move_gains.hpp).
+  double birth_gain_bound(const State& s, const std::vector<MeasurementSet>& scans,
+                          const GatedDensity<Model>& g, const Landmark& a) const {
+    double bound = 0.0;
+    for (std::size_t i = 0; i < scans.size(); ++i)
+      if (maybe_in_view(s.poses[i], a))
+        bound += log_birth_ratio_bound(model_, p_D_, g, s.poses[i], a, scans[i]);
+    return bound;
+  }
+
   /// Applies an accepted move: removed landmarks are marked dead (NaN) until compaction; the affected scans'
   /// E-step entries are recomputed.
   void apply_move(State& s, const std::vector<MeasurementSet>& scans, const std::vector<int>& removed,
@@ -466,7 +482,9 @@ class RfsMlSlam {
       }
     }
     // births: clusters of unexplained measurements
+    const GatedDensity<Model> g(model_, config_.gate);
     for (const Landmark& m : birth_candidates(s, scans)) {
+      if (!(birth_gain_bound(s, scans, g, m) > 0.0)) continue;  // Δl ≤ bound ≤ 0: no birth
       const LandmarkList added{m};
       if (move_gain(s, scans, {}, added, &affected) > 0.0) {
         apply_move(s, scans, {}, added, affected);

@@ -5,6 +5,7 @@
 #include <functional>
 #include <limits>
 
+#include "backend/mlslam/move_gains.hpp"
 #include "backend/mlslam/scan_likelihood.hpp"
 #include "backend/mlslam/smooth_stereo_detection.hpp"
 #include "core/gaussian.hpp"
@@ -168,6 +169,45 @@ TEST(MlSlamLikelihood, GatedTruncationIsALowerBoundCloseToTheExactSum) {
   const double l_trunc = evaluate_scan(model, detection, x, M, Z, truncated).log_likelihood;
   EXPECT_LE(l_trunc, l_exact + 1e-12);
   EXPECT_GT(l_trunc, l_exact - 1e-3);
+}
+
+// The birth bound of move_gains.hpp: log p(Z | x, M ∪ {a}) − log p(Z | x, M) (both by brute force over the
+// gated associations) never exceeds it, and equals it when every measurement a gates with is pure clutter
+// under M (no landmark of M gates with it).
+TEST(MlSlamLikelihood, BirthBoundIsAnUpperBoundOnTheBruteForceGain) {
+  const RangeBearingModel model = ambiguous_model();
+  const SmoothDetection2D detection(model, 0.2, 0.05);
+  const Pose2 x(0.1, -0.2, 0.05);
+  const Slam2D::LandmarkList M{{3.0, 0.1}, {3.2, -0.2}, {2.9, 0.4}, {4.95, 0.0}, {1.5, 1.2}};
+  const Slam2D::MeasurementSet Z{{3.0, 0.1}, {3.3, -0.05}, {2.2, 0.3}, {4.8, 0.05}, {1.9, 0.9}, {1.2, -0.6}};
+  const double gate = 9.0;
+  const GatedDensity<RangeBearingModel> g(model, gate);
+  Eigen::MatrixXd beta;
+  const double l0 = brute_force_eq7(model, detection, x, M, Z, &beta, gate);
+  int tight = 0;
+  // candidates on the shared measurements, between them, on the clutter measurement, and out of view
+  const Slam2D::LandmarkList candidates{{3.05, 0.05}, {3.1, -0.1}, {2.5, 0.45}, {1.25, -0.55},
+                                        {1.3, -0.4},  {4.9, 0.1},  {-3.0, 0.0}};
+  for (const auto& a : candidates) {
+    Slam2D::LandmarkList Ma = M;
+    Ma.push_back(a);
+    const double gain = brute_force_eq7(model, detection, x, Ma, Z, &beta, gate) - l0;
+    const double bound = log_birth_ratio_bound(model, detection, g, x, a, Z);
+    EXPECT_LE(gain, bound + 1e-9);
+    // measurements a gates with that no landmark of M gates with: the bound is the exact gain
+    bool clutter_only = true;
+    for (const auto& z : Z) {
+      if (mahalanobis_squared(model.residual(z, model.predict(x, a)), model.noise()) > gate) continue;
+      for (const auto& m : M)
+        clutter_only =
+            clutter_only && mahalanobis_squared(model.residual(z, model.predict(x, m)), model.noise()) > gate;
+    }
+    if (clutter_only) {
+      EXPECT_NEAR(gain, bound, 1e-9);
+      ++tight;
+    }
+  }
+  EXPECT_GE(tight, 2);  // the clutter measurement's candidates and the one out of view
 }
 
 // With one dominant association (well separated landmarks, small noise, constant p_D) the log-likelihood
