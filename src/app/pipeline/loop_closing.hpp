@@ -24,7 +24,8 @@ class LoopClosing {
 
   /// Closes the loops of the run in place: `poses` (one per frame, the filter's) and `map` (landmark labels
   /// birth step << 12 | index, app/pipeline/filter_stage.hpp) move; `controls[k]` (k ≥ 1) weighs the motion
-  /// of frame k. Adds `loops`, `loops_rejected` and `loop_ms` to `stats`; returns the loops used.
+  /// of frame k. Adds `loops_detected`, `loops` (kept), `loops_rejected` and `loop_ms` to `stats`; returns
+  /// the loops kept.
   int apply(PoseList& poses, std::vector<io::MapPoint>& map,
             const std::vector<backend::RelativePoseControl,
                               Eigen::aligned_allocator<backend::RelativePoseControl>>& controls,
