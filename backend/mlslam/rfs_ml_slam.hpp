@@ -33,6 +33,7 @@
 #include <Eigen/StdVector>
 
 #include "backend/mlslam/ceres_factors_2d.hpp"
+#include "backend/mlslam/em_rounds.hpp"
 #include "backend/mlslam/landmark_grid.hpp"
 #include "backend/mlslam/mlslam_config.hpp"
 #include "backend/mlslam/move_gains.hpp"
@@ -88,38 +89,23 @@ class RfsMlSlam {
       e_step(state, controls, scans);
       report.e_step_ms += e.elapsed_ms();
     };
-    timed_e_step(s);
-    report.initial_log_likelihood = s.log_likelihood;
-    double l = s.log_likelihood;
-    for (int round = 0; round < config_.max_rounds; ++round) {
-      State next = s;
-      Stopwatch m;
-      m_step(next, controls, scans);
-      report.m_step_ms += m.elapsed_ms();
-      if (nearest_neighbour()) add_unassigned_as_landmarks(next, scans);
-      timed_e_step(next);
-      // the M-step holds p_D fixed: if l fell, step back towards the previous estimate (halving)
-      for (int halving = 0; halving < 3 && !nearest_neighbour() && !(next.log_likelihood > l); ++halving) {
-        blend_towards(s, next);
-        timed_e_step(next);
-      }
-      const bool improved = next.log_likelihood > l;
-      if (improved || nearest_neighbour()) s = std::move(next);
-      int accepted = 0;
-      if (config_.cardinality_moves && !nearest_neighbour()) {
-        Stopwatch c;
-        accepted = cardinality_moves(s, scans, report);
-        report.moves_ms += c.elapsed_ms();
-      }
-      ++report.rounds;
-      const double gain = s.log_likelihood - l;
-      l = s.log_likelihood;
-      report.log_likelihood_per_round.push_back(l);
-      const double stop_gain =
-          std::max(config_.tolerance, config_.relative_tolerance * (l - report.initial_log_likelihood));
-      if (accepted == 0 && (!improved || std::abs(gain) < stop_gain)) break;
-    }
-    report.final_log_likelihood = l;
+    run_em_rounds(
+        s, config_, nearest_neighbour(), timed_e_step,
+        [&](State& next) {
+          Stopwatch m;
+          m_step(next, controls, scans);
+          report.m_step_ms += m.elapsed_ms();
+          if (nearest_neighbour()) add_unassigned_as_landmarks(next, scans);
+        },
+        blend_towards<Motion, State>,
+        [&](State& state) {
+          if (!config_.cardinality_moves || nearest_neighbour()) return 0;
+          Stopwatch c;
+          const int accepted = cardinality_moves(state, scans, report);
+          report.moves_ms += c.elapsed_ms();
+          return accepted;
+        },
+        report);
     report.ms = watch.elapsed_ms();
     poses = std::move(s.poses);
     map = std::move(s.map);
@@ -375,14 +361,6 @@ class RfsMlSlam {
     ceres::Solver::Summary summary;
     ceres::Solve(so, &problem, &summary);
     for (std::size_t i = 1; i < K; ++i) s.poses[i] = Parts::from_block(block(i));
-  }
-
-  /// next ← midway between `from` and `next` (poses in the tangent space; same landmark list).
-  static void blend_towards(const State& from, State& next) {
-    for (std::size_t i = 0; i < next.poses.size(); ++i)
-      next.poses[i] = Motion::retract(from.poses[i], 0.5 * Motion::local(next.poses[i], from.poses[i]));
-    for (std::size_t j = 0; j < next.map.size() && j < from.map.size(); ++j)
-      next.map[j] = 0.5 * (next.map[j] + from.map[j]);
   }
 
   // ---- cardinality moves -------------------------------------------------------------------------------

@@ -12,6 +12,7 @@
 #include <utility>
 #include <vector>
 
+#include "backend/mlslam/em_rounds.hpp"
 #include "backend/mlslam/landmark_grid.hpp"
 #include "backend/mlslam/rfs_ml_slam.hpp"
 #include "backend/mlslam/scan_likelihood.hpp"
@@ -56,31 +57,14 @@ class StereoBatchMlSlam {
       e_step(state, controls, scans);
       report.e_step_ms += e.elapsed_ms();
     };
-    timed_e_step(s);
-    report.initial_log_likelihood = s.log_likelihood;
-    double l = s.log_likelihood;
-    for (int round = 0; round < config_.max_rounds; ++round) {
-      State next = s;
-      Stopwatch m;
-      m_step(problem, next, scans);
-      report.m_step_ms += m.elapsed_ms();
-      timed_e_step(next);
-      // the M-step holds p_D fixed: if l fell, step back towards the previous estimate (halving)
-      for (int halving = 0; halving < 3 && !(next.log_likelihood > l); ++halving) {
-        blend_towards(s, next);
-        timed_e_step(next);
-      }
-      const bool improved = next.log_likelihood > l;
-      if (improved) s = std::move(next);
-      ++report.rounds;
-      const double gain = s.log_likelihood - l;
-      l = s.log_likelihood;
-      report.log_likelihood_per_round.push_back(l);
-      const double stop_gain =
-          std::max(config_.tolerance, config_.relative_tolerance * (l - report.initial_log_likelihood));
-      if (!improved || std::abs(gain) < stop_gain) break;
-    }
-    report.final_log_likelihood = l;
+    run_em_rounds(
+        s, config_, false, timed_e_step,
+        [&](State& next) {
+          Stopwatch m;
+          m_step(problem, next, scans);
+          report.m_step_ms += m.elapsed_ms();
+        },
+        blend_towards<Se3Motion, State>, [](State&) { return 0; }, report);
     report.ms = watch.elapsed_ms();
     poses = std::move(s.poses);
     map = std::move(s.map);
@@ -155,13 +139,6 @@ class StereoBatchMlSlam {
       }
     }
     problem.solve(s.poses, s.map);
-  }
-
-  /// next ← midway between `from` and `next` (poses in the tangent space).
-  static void blend_towards(const State& from, State& next) {
-    for (std::size_t i = 0; i < next.poses.size(); ++i)
-      next.poses[i] = Se3Motion::retract(from.poses[i], 0.5 * Se3Motion::local(next.poses[i], from.poses[i]));
-    for (std::size_t j = 0; j < next.map.size(); ++j) next.map[j] = 0.5 * (next.map[j] + from.map[j]);
   }
 
   Se3Motion motion_;
