@@ -5,7 +5,7 @@
 set -euo pipefail
 BUILD_PKGS=(
   build-essential cmake g++ pkg-config git
-  libopencv-dev libeigen3-dev libpcl-dev libceres-dev libsuitesparse-dev libyaml-cpp-dev libmatio-dev
+  libopencv-dev libeigen3-dev libpcl-dev libceres-dev libsuitesparse-dev libopenblas-dev libyaml-cpp-dev libmatio-dev
   libcli11-dev libspdlog-dev libopenmpi-dev nlohmann-json3-dev zlib1g-dev
 )
 # Only for the tests, benchmarks and CI stages (one package a line; keep each with a comment saying what needs it).

@@ -7,6 +7,8 @@
 
 #include "app/commands.hpp"
 #include "app/global_options.hpp"
+#include "app/passive_openmp.hpp"
+#include "core/blas_threads.hpp"
 #include "core/error.hpp"
 #include "core/interrupt.hpp"
 #include "core/logging.hpp"
@@ -14,6 +16,8 @@
 #include "core/progress.hpp"
 
 int main(int argc, char** argv) {
+  glmbslam::app::ensure_passive_openmp(argv);  // before any parallel region: see passive_openmp.hpp
+  glmbslam::fix_blas_thread_count();
   CLI::App app{
       "glmbslam: stereo visual SLAM with δ-GLMB-SLAM 2.0 (labelled random-finite-set maps in a "
       "Rao-Blackwellised particle filter), its stereo frontend, KITTI evaluation and the papers' baselines."};
@@ -27,7 +31,10 @@ int main(int argc, char** argv) {
                "for scripts: no progress bar and no info lines (log level warn unless --log-level is given); "
                "warnings, errors and the results summary stay");
   auto* threads_option =
-      app.add_option("--threads", threads, "worker threads (0 = all cores; overrides a config's threads:)")
+      app.add_option(
+             "--threads", threads,
+             "worker threads (0 = all cores; overrides a config's threads:); the sparse Cholesky of the "
+             "refinement adds 2 BLAS threads of its own (core/blas_threads.hpp)")
           ->capture_default_str();
   app.parse_complete_callback([&] {
     glmbslam::set_log_level(quiet && log_level_option->count() == 0 ? "warn" : log_level);

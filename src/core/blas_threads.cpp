@@ -1,0 +1,15 @@
+#include "core/blas_threads.hpp"
+
+#ifdef GLMBSLAM_HAVE_OPENBLAS
+extern "C" void openblas_set_num_threads(int num_threads);  // OpenBLAS's own API (cblas.h)
+#endif
+
+namespace glmbslam {
+
+void fix_blas_thread_count() {
+#ifdef GLMBSLAM_HAVE_OPENBLAS
+  openblas_set_num_threads(kBlasThreads);
+#endif
+}
+
+}  // namespace glmbslam
