@@ -7,7 +7,8 @@
 // = 1, refine ml, 2 threads) runs the filter at 38.8 fps with spinning and 48.3 fps with
 // OMP_WAIT_POLICY=passive (N = 10: 28.6 → 31.5 fps), same output. libgomp reads OMP_WAIT_POLICY only when it
 // is loaded, so the executable sets it and re-executes itself once, before anything else runs. A user's own
-// OMP_WAIT_POLICY is kept as given.
+// OMP_WAIT_POLICY is kept as given and skips the re-execution (set one under valgrind or gdb, which would
+// otherwise follow the exec).
 
 namespace glmbslam::app {
 
