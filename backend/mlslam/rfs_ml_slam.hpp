@@ -38,6 +38,7 @@
 #include "backend/mlslam/mlslam_config.hpp"
 #include "backend/mlslam/move_gains.hpp"
 #include "backend/mlslam/scan_likelihood.hpp"
+#include "backend/mlslam/scan_move_gain.hpp"
 #include "backend/mlslam/smooth_detection.hpp"
 #include "core/parallel.hpp"
 #include "core/stopwatch.hpp"
@@ -379,16 +380,23 @@ class RfsMlSlam {
     ScanLikelihoodOptions o = scan_options();
     o.marginals = false;
     double gain = 0.0;
-    for (std::size_t i : *affected) {
-      LandmarkList M;
-      for (int c : s.scans[i].candidates)
-        if (std::find(removed.begin(), removed.end(), c) == removed.end())
-          M.push_back(s.map[static_cast<std::size_t>(c)]);
+    // per scan, only the blocks the move touches (scan_move_gain.hpp), in parallel; summed in scan order
+    std::vector<double> gains(affected->size(), 0.0);
+    parallel_for(affected->size(), [&](std::size_t a) {
+      const std::size_t i = (*affected)[a];
+      const std::vector<int>& candidates = s.scans[i].candidates;
+      std::vector<int> at;  // positions of the removed landmarks in the scan's candidate list
+      for (int r : removed) {
+        const auto it = std::find(candidates.begin(), candidates.end(), r);
+        if (it != candidates.end()) at.push_back(static_cast<int>(it - candidates.begin()));
+      }
+      LandmarkList in_view;
       for (const auto& m : added)
-        if (maybe_in_view(s.poses[i], m)) M.push_back(m);
-      gain += evaluate_scan(model_, p_D_, s.poses[i], M, scans[i], o).log_likelihood -
-              s.scans[i].association.log_likelihood;
-    }
+        if (maybe_in_view(s.poses[i], m)) in_view.push_back(m);
+      gains[a] =
+          scan_move_gain(model_, p_D_, s.poses[i], gather(s.map, candidates), at, in_view, scans[i], o);
+    });
+    for (double g : gains) gain += g;
     return gain;
   }
 
