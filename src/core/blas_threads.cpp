@@ -1,5 +1,7 @@
 #include "core/blas_threads.hpp"
 
+#include <cstdlib>
+
 #ifdef GLMBSLAM_HAVE_OPENBLAS
 extern "C" void openblas_set_num_threads(int num_threads);  // OpenBLAS's own API (cblas.h)
 #endif
@@ -8,7 +10,7 @@ namespace glmbslam {
 
 void fix_blas_thread_count() {
 #ifdef GLMBSLAM_HAVE_OPENBLAS
-  openblas_set_num_threads(kBlasThreads);
+  if (std::getenv("OPENBLAS_NUM_THREADS") == nullptr) openblas_set_num_threads(kBlasThreads);
 #endif
 }
 

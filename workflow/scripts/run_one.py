@@ -90,10 +90,14 @@ def main():
     exe = shutil.which(command[0]) or command[0]
     started = datetime.datetime.now(datetime.timezone.utc)
     t0 = time.monotonic()
+    # the refinement's BLAS gets the job's cores, no more: jobs share a node (README, --threads)
+    env = dict(os.environ)
+    if "--threads" in command[:-1] and "OPENBLAS_NUM_THREADS" not in env:
+        env["OPENBLAS_NUM_THREADS"] = command[command.index("--threads") + 1]
     with open(args.log, "w") as log:
         log.write("$ " + " ".join(command) + "\n")
         log.flush()
-        code = subprocess.call(command, stdout=log, stderr=subprocess.STDOUT)
+        code = subprocess.call(command, stdout=log, stderr=subprocess.STDOUT, env=env)
     wall = time.monotonic() - t0
     ended = datetime.datetime.now(datetime.timezone.utc)
     usage = resource.getrusage(resource.RUSAGE_CHILDREN)  # before any other child
