@@ -121,6 +121,7 @@ def main():
         "cpu_model": cpu_model(),
         "cpu_count": os.cpu_count(),
         "slurm_job_id": os.environ.get("SLURM_JOB_ID"),
+        "openblas_num_threads": env.get("OPENBLAS_NUM_THREADS"),  # the refinement's BLAS (round-off differs)
         "started_utc": started.isoformat(timespec="seconds"),
         "ended_utc": ended.isoformat(timespec="seconds"),
     }
