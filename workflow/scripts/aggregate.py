@@ -75,7 +75,7 @@ def rows_of_run(prov_path):
         metrics = json.load(f)
     base = {k: prov.get(k) for k in ID_COLUMNS if k in prov}
     for k in ("wall_s", "cpu_s", "peak_rss_mib", "git_revision", "git_dirty", "machine", "cpu_model", "cpu_count",
-              "slurm_job_id", "started_utc", "ended_utc", "executable"):
+              "slurm_job_id", "openblas_num_threads", "started_utc", "ended_utc", "executable"):
         base[k] = prov.get(k)
     base["command_line"] = " ".join(prov.get("argv", []))
     base["run_dir"] = run_dir
