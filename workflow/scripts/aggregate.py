@@ -24,7 +24,8 @@ import sys
 ID_COLUMNS = ["preset", "dataset", "command", "algorithm", "particles", "refine", "seed", "scenario", "clutter",
               "frame_range", "config_file", "threads"]
 PROVENANCE_COLUMNS = ["wall_s", "cpu_s", "peak_rss_mib", "runs_in_job", "git_revision", "git_dirty", "machine", "cpu_model",
-                      "cpu_count", "slurm_job_id", "started_utc", "ended_utc", "executable", "command_line",
+                      "cpu_count", "slurm_job_id", "openblas_num_threads", "started_utc", "ended_utc", "executable",
+                      "command_line",
                       "run_dir"]
 GROUP = ["dataset", "command", "algorithm", "particles", "refine"]
 
