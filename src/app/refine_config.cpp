@@ -10,7 +10,8 @@ backend::MlSlamConfig RefineSettings::default_stereo_mlslam_config() {
       30;  // KITTI raw 0001 seed 0, refined ATE: 10 rounds 0.0606 m, 30 (converged after 19) 0.0571 m
   c.solver_iterations =
       3;  // the E-step re-weights between short M-steps (rendered 07, 300 frames: same optimum)
-  c.relative_tolerance = 3e-3;  // the last rounds add little: rendered 07, 14 -> 9 rounds, ATE 0.0935 -> 0.0939 m
+  c.relative_tolerance =
+      3e-3;  // the last rounds add little: rendered 07, 14 -> 9 rounds, ATE 0.0935 -> 0.0939 m
   c.linear_solver = "auto";
   c.border_range_m = 0.0;  // 2 % of the maximum depth
   c.border_pixels = 0.0;   // the pixel σ
