@@ -8,10 +8,27 @@
 #include <algorithm>
 #include <cmath>
 #include <utility>
+#include <vector>
 
 #include "backend/mlslam/mlslam_config.hpp"
+#include "backend/mlslam/scan_likelihood.hpp"
 
 namespace glmbslam::backend {
+
+/// The estimate the EM rounds move, with its E-step: per scan the candidate landmarks (map indices,
+/// ascending) and their association, the motion terms, and l of Eq. 8.
+template <class PoseList, class LandmarkList>
+struct EmState {
+  struct Scan {
+    std::vector<int> candidates;
+    ScanAssociation association;
+  };
+  PoseList poses;
+  LandmarkList map;
+  std::vector<Scan> scans;
+  std::vector<double> motion_ll;
+  double log_likelihood = 0.0;
+};
 
 /// next ← midway between `from` and `next` (poses in Motion's tangent space; landmarks both maps hold).
 template <class Motion, class State>

@@ -167,18 +167,8 @@ class RfsMlSlam {
   const typename Parts::Detection& detection() const { return p_D_; }
 
  private:
-  /// Per-scan E-step result: the candidate landmarks (map indices) and their association.
-  struct ScanState {
-    std::vector<int> candidates;
-    ScanAssociation association;
-  };
-  struct State {
-    PoseList poses;
-    LandmarkList map;
-    std::vector<ScanState> scans;
-    std::vector<double> motion_ll;
-    double log_likelihood = 0.0;
-  };
+  using State = EmState<PoseList, LandmarkList>;
+  using ScanState = typename State::Scan;
 
   bool nearest_neighbour() const { return config_.association == "nearest_neighbour"; }
 

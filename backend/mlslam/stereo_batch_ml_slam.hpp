@@ -80,17 +80,8 @@ class StereoBatchMlSlam {
   }
 
  private:
-  struct ScanState {
-    std::vector<int> candidates;  ///< map indices, ascending
-    ScanAssociation association;
-  };
-  struct State {
-    PoseList poses;
-    LandmarkList map;
-    std::vector<ScanState> scans;
-    std::vector<double> motion_ll;
-    double log_likelihood = 0.0;
-  };
+  using State = EmState<PoseList, LandmarkList>;
+  using ScanState = typename State::Scan;
 
   /// β and l at the current estimate (parallel over scans; each scan writes only its own slot).
   void e_step(State& s, const ControlList& controls, const std::vector<MeasurementSet>& scans) const {
