@@ -7,7 +7,7 @@
 #   --out DIR       output root (default: `out` of workflow/config.yaml, out/workflow); results in DIR/NAME/
 #   --slurm         submit every job with sbatch (workflow/profiles/slurm); otherwise run locally
 #   --cores N       local cores (default: all)
-#   --results-doc   afterwards copy the results tables to docs/results.md
+#   --results-doc   afterwards write docs/results.md and the README results block from the aggregate
 #   SNAKEMAKE ARGS  passed on, e.g. -n (dry run), --forcerun run, --keep-going
 # Environment: GLMBSLAM (executable, default build/src/app/glmbslam; built when absent), GLMBSLAM_DATA (data root).
 set -euo pipefail

@@ -12,7 +12,7 @@ BUILD_PKGS=(
 TEST_PKGS=(
   libgtest-dev libgmock-dev libbenchmark-dev  # GoogleTest suite, Google Benchmark micro-benchmarks
   chromium  # loads report.html headless in the report test (tests/app/test_report_html_browser.cpp)
-  snakemake python3-matplotlib python3-yaml slurmctld slurmd slurm-client munge  # experiment workflow and its local/Slurm CI stage (scripts/ci_workflow.sh)
+  snakemake python3-matplotlib python3-yaml python3-jinja2 slurmctld slurmd slurm-client munge  # experiment workflow and its local/Slurm CI stage (scripts/ci_workflow.sh; jinja2: workflow/scripts/results_doc.py)
   clang-14 libclang-rt-14-dev  # libFuzzer targets of fuzz/ (scripts/fuzz.sh: clang with -fsanitize=fuzzer)
 )
 PKGS=("${BUILD_PKGS[@]}")
