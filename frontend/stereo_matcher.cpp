@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <vector>
 
 #include <opencv2/core/hal/intrin.hpp>
 
@@ -10,33 +11,72 @@ namespace glmbslam::frontend {
 
 namespace {
 
-// SAD between (2w+1)² patches centred at (xl, y) in L and (xr, y) in R, each patch made relative to its own
-// centre pixel (robust to a brightness offset between the cameras). Caller guarantees the bounds.
-int patch_sad_scalar(const cv::Mat& L, const cv::Mat& R, int xl, int xr, int y, int w) {
-  const int cl = L.at<uchar>(y, xl);
-  const int cr = R.at<uchar>(y, xr);
+// SAD between (2w+1)² patches centred at (xl, y) in L and (xr, y) in R after removing the brightness offset
+// c between them: Σ |L(p) − R(p') − c|. Caller guarantees the bounds.
+int patch_sad_scalar(const cv::Mat& L, const cv::Mat& R, int xl, int xr, int y, int w, int c) {
   int sad = 0;
   for (int dy = -w; dy <= w; ++dy) {
     const uchar* pl = L.ptr<uchar>(y + dy) + xl - w;
     const uchar* pr = R.ptr<uchar>(y + dy) + xr - w;
-    for (int dx = 0; dx <= 2 * w; ++dx) sad += std::abs((pl[dx] - cl) - (pr[dx] - cr));
+    for (int dx = 0; dx <= 2 * w; ++dx) sad += std::abs(pl[dx] - pr[dx] - c);
   }
   return sad;
 }
 
+// Sum of the (2w+1)² patch centred at (x, y).
+int patch_sum(const cv::Mat& I, int x, int y, int w) {
+  int sum = 0;
+  for (int dy = -w; dy <= w; ++dy) {
+    const uchar* p = I.ptr<uchar>(y + dy) + x - w;
+    for (int dx = 0; dx <= 2 * w; ++dx) sum += p[dx];
+  }
+  return sum;
+}
+
+// The brightness offset between the left patch at xl and the right patches at x = xr0 − radius … xr0 +
+// radius (offsets[x − xr0 + radius]): the centre pixels' difference ("centre", ORB-SLAM2's), or the patch
+// means' difference rounded to a grey level ("zero_mean"; the right patch sums slide over column sums).
+void brightness_offsets(const cv::Mat& L, const cv::Mat& R, int xl, int xr0, int y, int w, int radius,
+                        bool zero_mean, int* offsets, std::vector<int>& columns) {
+  if (!zero_mean) {
+    const int cl = L.at<uchar>(y, xl);
+    for (int inc = -radius; inc <= radius; ++inc) offsets[inc + radius] = cl - R.at<uchar>(y, xr0 + inc);
+    return;
+  }
+  const int n = (2 * w + 1) * (2 * w + 1);
+  const int sum_l = patch_sum(L, xl, y, w);
+  const int x0 = xr0 - radius - w, width = 2 * (radius + w) + 1;
+  columns.assign(static_cast<std::size_t>(width), 0);
+  for (int dy = -w; dy <= w; ++dy) {
+    const uchar* p = R.ptr<uchar>(y + dy) + x0;
+    for (int i = 0; i < width; ++i) columns[static_cast<std::size_t>(i)] += p[i];
+  }
+  int sum_r = 0;
+  for (int i = 0; i < 2 * w + 1; ++i) sum_r += columns[static_cast<std::size_t>(i)];
+  for (int inc = -radius; inc <= radius; ++inc) {
+    if (inc > -radius) {
+      const auto i = static_cast<std::size_t>(inc + radius);
+      sum_r += columns[i + static_cast<std::size_t>(2 * w)] - columns[i - 1];
+    }
+    const int d = sum_l - sum_r;  // rounded to the nearest integer of d / n, halves away from zero
+    offsets[inc + radius] = d >= 0 ? (2 * d + n) / (2 * n) : -((-2 * d + n) / (2 * n));
+  }
+}
+
 // SAD of the patch at (xl, y) in L against the patches at (x, y) in R for x = xr0 − radius … xr0 + radius
-// (sads[x − xr0 + radius]). 16 pixels per row in SIMD registers when the patch fits (2w + 1 ≤ 16) and the
-// 16-byte loads stay inside the rows; the scalar version otherwise (same result).
-void sad_search(const cv::Mat& L, const cv::Mat& R, int xl, int xr0, int y, int w, int radius, int* sads) {
+// (sads[x − xr0 + radius]), each with its brightness offset. 16 pixels per row in SIMD registers when the
+// patch fits (2w + 1 ≤ 16) and the 16-byte loads stay inside the rows; the scalar version otherwise (same
+// result).
+void sad_search(const cv::Mat& L, const cv::Mat& R, int xl, int xr0, int y, int w, int radius,
+                const int* offsets, int* sads) {
 #if CV_SIMD128
   if (2 * w + 1 <= 16 && xl - w + 16 <= L.cols && xr0 + radius - w + 16 <= R.cols) {
     alignas(16) std::int16_t lane_mask[16];
     for (int i = 0; i < 16; ++i) lane_mask[i] = i <= 2 * w ? -1 : 0;
     const cv::v_int16x8 mask_lo = cv::v_load(lane_mask), mask_hi = cv::v_load(lane_mask + 8);
-    const int cl = L.at<uchar>(y, xl);
     for (int inc = -radius; inc <= radius; ++inc) {
       const int xr = xr0 + inc;
-      const cv::v_int16x8 c = cv::v_setall_s16(static_cast<short>(cl - R.at<uchar>(y, xr)));
+      const cv::v_int16x8 c = cv::v_setall_s16(static_cast<short>(offsets[inc + radius]));
       cv::v_uint16x8 acc = cv::v_setzero_u16();
       for (int dy = -w; dy <= w; ++dy) {
         cv::v_uint16x8 l_lo, l_hi, r_lo, r_hi;
@@ -53,7 +93,19 @@ void sad_search(const cv::Mat& L, const cv::Mat& R, int xl, int xr0, int y, int 
   }
 #endif
   for (int inc = -radius; inc <= radius; ++inc)
-    sads[inc + radius] = patch_sad_scalar(L, R, xl, xr0 + inc, y, w);
+    sads[inc + radius] = patch_sad_scalar(L, R, xl, xr0 + inc, y, w, offsets[inc + radius]);
+}
+
+// Sub-pixel offset of the minimum s2 from its neighbours s1 (left) and s3 (right), in (−1, 1) or outside
+// when the fit fails: a parabola through the three (ORB-SLAM2's), or the equiangular fit — two lines of
+// opposite slope, the interpolation matched to an L1 cost such as SAD (Shimizu & Okutomi 2005).
+double subpixel_offset(double s1, double s2, double s3, bool equiangular) {
+  if (equiangular) {
+    const double m = std::max(s1, s3) - s2;
+    return m > 0.0 ? 0.5 * (s1 - s3) / m : 0.0;
+  }
+  const double denom = 2.0 * (s1 + s3 - 2.0 * s2);
+  return denom > 0.0 ? (s1 - s3) / denom : 0.0;
 }
 
 }  // namespace
@@ -123,7 +175,8 @@ StereoMeasurementList StereoMatcher::match(const OrbFeatures& left, const OrbFea
   accepted.reserve(static_cast<std::size_t>(nl));
   const int w = config_.sad_half_window;
   const int radius = config_.sad_search_radius;
-  std::vector<int> sads(static_cast<std::size_t>(2 * radius + 1));
+  std::vector<int> sads(static_cast<std::size_t>(2 * radius + 1)), offsets(sads.size()), columns;
+  const bool zero_mean = config_.subpixel_cost == "zero_mean";
   struct Scored {
     float u;
     int distance;
@@ -169,7 +222,8 @@ StereoMeasurementList StereoMatcher::match(const OrbFeatures& left, const OrbFea
     }
     ++st.candidates;
 
-    // Sub-pixel u_R: SAD search on the left keypoint's level around the matched right column, parabola fit.
+    // Sub-pixel u_R: SAD search on the left keypoint's level around the matched right column, then the
+    // sub-pixel fit of stereo.subpixel_cost.
     const int level = std::min(kl.octave, levels - 1);
     const double scale = scales_[static_cast<std::size_t>(level)];
     const cv::Mat& IL = left.pyramid[static_cast<std::size_t>(level)];
@@ -182,7 +236,8 @@ StereoMeasurementList StereoMatcher::match(const OrbFeatures& left, const OrbFea
       ++st.rejected_subpixel;
       continue;
     }
-    sad_search(IL, IR, xl, xr0, yl, w, radius, sads.data());
+    brightness_offsets(IL, IR, xl, xr0, yl, w, radius, zero_mean, offsets.data(), columns);
+    sad_search(IL, IR, xl, xr0, yl, w, radius, offsets.data(), sads.data());
     int best_sad = std::numeric_limits<int>::max(), best_inc = 0;
     for (int inc = -radius; inc <= radius; ++inc) {
       const int s = sads[static_cast<std::size_t>(inc + radius)];
@@ -198,8 +253,7 @@ StereoMeasurementList StereoMatcher::match(const OrbFeatures& left, const OrbFea
     const double s1 = sads[static_cast<std::size_t>(best_inc + radius - 1)];
     const double s2 = sads[static_cast<std::size_t>(best_inc + radius)];
     const double s3 = sads[static_cast<std::size_t>(best_inc + radius + 1)];
-    const double denom = 2.0 * (s1 + s3 - 2.0 * s2);
-    const double delta = denom > 0.0 ? (s1 - s3) / denom : 0.0;
+    const double delta = subpixel_offset(s1, s2, s3, zero_mean);
     if (delta < -1.0 || delta > 1.0) {
       ++st.rejected_subpixel;
       continue;
