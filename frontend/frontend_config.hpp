@@ -31,8 +31,10 @@ struct StereoMatchConfig {
   int sad_search_radius = 5;        ///< pixels searched left/right of the matched u_R on that level
   double outlier_sad_factor = 2.1;  ///< reject matches whose SAD exceeds this × the frame's median SAD
   /// Sub-pixel u_R cost: "centre" (ORB-SLAM2's: each patch relative to its centre pixel, parabola fit) or
-  /// "zero_mean" (each patch relative to its mean, equiangular fit; unbiased and 4× more precise on rendered
-  /// frames, tests/frontend/test_stereo_disparity_bias.cpp; docs/investigations.md on real data).
+  /// "zero_mean" (each patch relative to its mean, equiangular fit, kept where the centre cost's minimum is
+  /// within one pixel of the level): unbiased and 4× sharper on rendered frames
+  /// (tests/frontend/test_stereo_disparity_bias.cpp), but the filter is tuned for "centre"
+  /// (docs/investigations.md).
   std::string subpixel_cost = "centre";
   double pixel_sigma = 1.0;  ///< σ (pixels) of u_L, v, u_R at level 0; × scale_factor^octave above
 };

@@ -108,6 +108,29 @@ double subpixel_offset(double s1, double s2, double s3, bool equiangular) {
   return denom > 0.0 ? (s1 - s3) / denom : 0.0;
 }
 
+// The SAD search around xr0 and its sub-pixel fit with the given brightness model: the minimum at xr0 +
+// best_inc + delta (pixels of the level) and its SAD; false when the minimum lies on the search border or the
+// fit leaves (−1, 1).
+bool subpixel_search(const cv::Mat& L, const cv::Mat& R, int xl, int xr0, int y, int w, int radius,
+                     bool zero_mean, std::vector<int>& sads, std::vector<int>& offsets,
+                     std::vector<int>& columns, int& best_inc, double& delta, int& best_sad) {
+  brightness_offsets(L, R, xl, xr0, y, w, radius, zero_mean, offsets.data(), columns);
+  sad_search(L, R, xl, xr0, y, w, radius, offsets.data(), sads.data());
+  best_sad = std::numeric_limits<int>::max();
+  best_inc = 0;
+  for (int inc = -radius; inc <= radius; ++inc) {
+    const int s = sads[static_cast<std::size_t>(inc + radius)];
+    if (s < best_sad) {
+      best_sad = s;
+      best_inc = inc;
+    }
+  }
+  if (best_inc == -radius || best_inc == radius) return false;
+  const auto i = static_cast<std::size_t>(best_inc + radius);
+  delta = subpixel_offset(sads[i - 1], sads[i], sads[i + 1], zero_mean);
+  return delta >= -1.0 && delta <= 1.0;
+}
+
 }  // namespace
 
 StereoMatcher::StereoMatcher(const StereoCamera& camera, const StereoMatchConfig& config,
@@ -236,27 +259,23 @@ StereoMeasurementList StereoMatcher::match(const OrbFeatures& left, const OrbFea
       ++st.rejected_subpixel;
       continue;
     }
-    brightness_offsets(IL, IR, xl, xr0, yl, w, radius, zero_mean, offsets.data(), columns);
-    sad_search(IL, IR, xl, xr0, yl, w, radius, offsets.data(), sads.data());
-    int best_sad = std::numeric_limits<int>::max(), best_inc = 0;
-    for (int inc = -radius; inc <= radius; ++inc) {
-      const int s = sads[static_cast<std::size_t>(inc + radius)];
-      if (s < best_sad) {
-        best_sad = s;
-        best_inc = inc;
+    // centre: one search; zero_mean: its own search, kept only where the centre cost's minimum lies within
+    // one pixel of the level (an ambiguous minimum moves between the two brightness models)
+    int best_inc = 0, best_sad = 0;
+    double delta = 0.0;
+    if (!subpixel_search(IL, IR, xl, xr0, yl, w, radius, false, sads, offsets, columns, best_inc, delta,
+                         best_sad)) {
+      ++st.rejected_subpixel;
+      continue;
+    }
+    if (zero_mean) {
+      const double centre_offset = best_inc + delta;
+      if (!subpixel_search(IL, IR, xl, xr0, yl, w, radius, true, sads, offsets, columns, best_inc, delta,
+                           best_sad) ||
+          std::abs(best_inc + delta - centre_offset) > 1.0) {
+        ++st.rejected_subpixel;
+        continue;
       }
-    }
-    if (best_inc == -radius || best_inc == radius) {
-      ++st.rejected_subpixel;
-      continue;
-    }
-    const double s1 = sads[static_cast<std::size_t>(best_inc + radius - 1)];
-    const double s2 = sads[static_cast<std::size_t>(best_inc + radius)];
-    const double s3 = sads[static_cast<std::size_t>(best_inc + radius + 1)];
-    const double delta = subpixel_offset(s1, s2, s3, zero_mean);
-    if (delta < -1.0 || delta > 1.0) {
-      ++st.rejected_subpixel;
-      continue;
     }
     const double u_r = scale * (xr0 + best_inc + delta);
     const double disparity = u_l - u_r;
