@@ -128,8 +128,7 @@ def main():
 
     env_globals = {"values": res.values, "mean": res.mean, "std": res.std, "seeds": res.seeds, "row": res.row,
                    "f": fmt, "pm": pm, "pct": pct, "summary_intro": summary_intro, "summary_tables": summary_tables,
-                   "preset": a.preset, "rows": rows, "min": min, "max": max, "len": len, "sum": sum, "abs": abs,
-                   "zip": zip}
+                   "preset": a.preset, "len": len, "sum": sum}
     try:
         doc = render(a.template, env_globals)
         block = render(a.readme_template, env_globals).strip("\n")
