@@ -1,5 +1,7 @@
 #include "app/measurement_selection.hpp"
 
+#include <stdexcept>
+
 #include <algorithm>
 
 namespace glmbslam::app {
@@ -42,6 +44,28 @@ std::vector<int> select_measurements(const frontend::StereoMeasurementList& meas
     if (!any) break;
   }
   return selected;
+}
+
+std::vector<char> tracked_from(const std::vector<int>& previous_measurement,
+                               const std::vector<char>& previous_flags) {
+  std::vector<char> tracked(previous_measurement.size(), 0);
+  for (std::size_t i = 0; i < tracked.size(); ++i) {
+    const int prev = previous_measurement[i];
+    tracked[i] = prev >= 0 && static_cast<std::size_t>(prev) < previous_flags.size() &&
+                 previous_flags[static_cast<std::size_t>(prev)];
+  }
+  return tracked;
+}
+
+std::vector<char> control_exclusion(const std::string& mode, const std::vector<char>& selected,
+                                    const std::vector<char>& tracked_selected) {
+  if (mode == "none") return std::vector<char>(selected.size(), 0);
+  if (mode == "selected") return selected;
+  if (mode != "tracked") throw std::invalid_argument("control_exclusion: unknown mode '" + mode + "'");
+  std::vector<char> excluded(selected.size(), 0);
+  for (std::size_t i = 0; i < excluded.size(); ++i)
+    excluded[i] = selected[i] && i < tracked_selected.size() && tracked_selected[i];
+  return excluded;
 }
 
 }  // namespace glmbslam::app

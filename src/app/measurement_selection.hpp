@@ -3,6 +3,7 @@
 // at a pyramid level the model's noise describes, spread over the image by a grid (round-robin over the
 // cells, strongest response first), at most `max_count`. Spreading matters: a pose is best constrained by
 // landmarks all over the image, and the backend's cost grows with the number of measurements.
+#include <string>
 #include <vector>
 
 #include "frontend/stereo_measurement.hpp"
@@ -33,5 +34,25 @@ struct SelectionRules {
 std::vector<int> select_measurements(const frontend::StereoMeasurementList& measurements,
                                      const SelectionGrid& grid, const SelectionRules& rules,
                                      const std::vector<char>& preferred = {});
+
+/// Per measurement of this frame: the VO tracked it from a measurement of the previous frame flagged in
+/// `previous_flags` (`previous_measurement[i]`: index in the previous frame of measurement i's match, −1 =
+/// none; as frontend::VoEstimate::previous_measurement).
+std::vector<char> tracked_from(const std::vector<int>& previous_measurement,
+                               const std::vector<char>& previous_flags);
+
+/// Which of this frame's measurements the backend's control u_k, Q_k leaves out
+/// (`pipeline.control_excludes`), so that no pixel pair is counted twice, once in the VO motion and once in
+/// the landmark updates:
+///  - "tracked": those handed to the backend in this frame and in the previous one (`tracked_selected`): the
+///    backend's landmark already holds the previous pixel and takes the current one, so the pair's
+///    information on the motion reaches it there. A feature first handed over in this frame keeps its pair in
+///    the control: its landmark is born now and says nothing about the motion from the previous frame.
+///  - "selected": every measurement handed to the backend in this frame (the pairs of newly handed features
+///    are then in neither: on rendered KITTI 01, 150 vs 300 measurements per frame, 0.72 vs 0.85 % drift);
+///  - "none": the control is the full VO motion.
+/// `selected` and `tracked_selected` are index-aligned with the frame's measurements.
+std::vector<char> control_exclusion(const std::string& mode, const std::vector<char>& selected,
+                                    const std::vector<char>& tracked_selected);
 
 }  // namespace glmbslam::app

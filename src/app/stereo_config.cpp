@@ -71,7 +71,15 @@ void load_pipeline(ConfigNode node, PipelineSettings& c) {
   node.read_in_range("grid_rows", c.grid_rows, 1, 1000);
   node.read_in_range("max_octave", c.max_octave, 0, 31);
   node.read("prefer_tracked", c.prefer_tracked);
-  node.read("control_excludes_selected", c.control_excludes_selected);
+  node.read_choice("control_excludes", c.control_excludes, {"tracked", "selected", "none"});
+  if (node.has("control_excludes_selected")) {  // the key before control_excludes
+    if (node.has("control_excludes"))
+      node.fail("control_excludes_selected",
+                "give control_excludes only (control_excludes_selected is its old form)");
+    bool legacy = true;
+    node.read("control_excludes_selected", legacy);
+    c.control_excludes = legacy ? "selected" : "none";
+  }
   node.read("overlap_frontend", c.overlap_frontend);
   node.read("write_plots", c.write_plots);
   node.read_choice("algorithm", c.algorithm, {"glmb2", "glmb1", "lmb", "lmb1", "vo"});

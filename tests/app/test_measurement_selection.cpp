@@ -3,6 +3,8 @@
 
 #include <algorithm>
 #include <set>
+#include <stdexcept>
+#include <vector>
 
 #include "app/measurement_selection.hpp"
 
@@ -69,6 +71,25 @@ TEST(MeasurementSelection, SkipsKeypointsAboveTheHighestPyramidLevel) {
   level0.max_octave = 0;
   const auto only0 = select_measurements(list, grid2x1(), level0);
   EXPECT_EQ(std::set<int>(only0.begin(), only0.end()), (std::set<int>{1, 2, 4}));
+}
+
+// The VO's frame-to-frame matches (previous_measurement) carry the previous frame's flags forward.
+TEST(MeasurementSelection, TrackedFromFollowsTheVoMatches) {
+  const std::vector<int> previous_measurement{2, -1, 0, 7, 1};  // 7: beyond the previous frame's list
+  const std::vector<char> previous_selected{1, 0, 1};
+  EXPECT_EQ(tracked_from(previous_measurement, previous_selected), (std::vector<char>{1, 0, 1, 0, 0}));
+  EXPECT_EQ(tracked_from({}, previous_selected), std::vector<char>{});
+}
+
+// The control leaves out only what the backend's landmarks carry: "tracked" excludes the measurements handed
+// over now whose previous-frame match was handed over too; a newly handed measurement stays in the control.
+TEST(MeasurementSelection, ControlExclusionModes) {
+  const std::vector<char> selected{1, 1, 0, 1, 0};
+  const std::vector<char> tracked_selected{1, 0, 1, 1, 0};  // index 2: tracked but not handed over now
+  EXPECT_EQ(control_exclusion("tracked", selected, tracked_selected), (std::vector<char>{1, 0, 0, 1, 0}));
+  EXPECT_EQ(control_exclusion("selected", selected, tracked_selected), selected);
+  EXPECT_EQ(control_exclusion("none", selected, tracked_selected), (std::vector<char>(5, 0)));
+  EXPECT_THROW(control_exclusion("all", selected, tracked_selected), std::invalid_argument);
 }
 
 }  // namespace

@@ -53,6 +53,7 @@ void expect_same(const StereoConfig& a, const StereoConfig& b, const std::string
   EXPECT_EQ(a.pipeline.grid_columns, b.pipeline.grid_columns);
   EXPECT_EQ(a.pipeline.grid_rows, b.pipeline.grid_rows);
   EXPECT_EQ(a.pipeline.overlap_frontend, b.pipeline.overlap_frontend);
+  EXPECT_EQ(a.pipeline.control_excludes, b.pipeline.control_excludes);
   EXPECT_EQ(a.pipeline.algorithm, b.pipeline.algorithm);
   EXPECT_EQ(a.pipeline.trajectory_estimate, b.pipeline.trajectory_estimate);
 }
@@ -88,6 +89,22 @@ TEST(StereoConfig, UnknownKeysWrongTypesAndBadRangesAreErrorsNamingTheKey) {
   expect_error("measurement:\n  pixel_sigma: [1]\n", "pixel_sigma");
   expect_error("measurement:\n  pixel_sigma_floor: -1\n", "pixel_sigma_floor");
   expect_error("measurement:\n  pixel_sigma_floor: 1.5\n  pixel_sigma_ceiling: 1\n", "pixel_sigma_ceiling");
+  expect_error("pipeline:\n  control_excludes: all\n", "control_excludes");
+  expect_error("pipeline:\n  control_excludes: none\n  control_excludes_selected: true\n",
+               "control_excludes_selected");
+}
+
+// pipeline.control_excludes (tracked, the default; selected; none); the key before it,
+// control_excludes_selected, still reads: true as selected, false as none.
+TEST(StereoConfig, ControlExcludesAndItsLegacyKey) {
+  EXPECT_EQ(default_stereo_config().pipeline.control_excludes, "tracked");
+  auto parse = [](const std::string& yaml) {
+    return parse_stereo_config(YAML::Load(yaml), "test.yaml").pipeline.control_excludes;
+  };
+  EXPECT_EQ(parse("pipeline:\n  control_excludes: selected\n"), "selected");
+  EXPECT_EQ(parse("pipeline:\n  control_excludes: none\n"), "none");
+  EXPECT_EQ(parse("pipeline:\n  control_excludes_selected: true\n"), "selected");
+  EXPECT_EQ(parse("pipeline:\n  control_excludes_selected: false\n"), "none");
 }
 
 // measurement.pixel_sigma: `auto` (the default: estimated per sequence, between the floor and the ceiling) or

@@ -97,20 +97,18 @@ const FilterStep& FilterStage::step(const FrameWork& work, const frontend::VoEst
   frontend::VoEstimate control = vo_estimate;
   if (work.loaded) {
     const auto& measurements = work.features.measurements;
-    // prefer the features the VO tracked from last frame's selection (track continuity)
-    std::vector<char> preferred;
-    if (config_.pipeline.prefer_tracked && !vo_estimate.previous_measurement.empty()) {
-      preferred.assign(measurements.size(), 0);
-      for (std::size_t i = 0; i < preferred.size(); ++i) {
-        const int prev = vo_estimate.previous_measurement[i];
-        preferred[i] = prev >= 0 && static_cast<std::size_t>(prev) < previous_selected_.size() &&
-                       previous_selected_[static_cast<std::size_t>(prev)];
-      }
-    }
-    step_.selected = select_measurements(measurements, grid_, rules_, preferred);
+    // the features the VO tracked from last frame's selection: preferred (track continuity), and the ones
+    // whose motion information reaches the backend through their landmarks
+    std::vector<char> tracked(measurements.size(), 0);
+    if (!vo_estimate.previous_measurement.empty())
+      tracked = tracked_from(vo_estimate.previous_measurement, previous_selected_);
+    step_.selected = select_measurements(measurements, grid_, rules_,
+                                         config_.pipeline.prefer_tracked ? tracked : std::vector<char>{});
     previous_selected_.assign(measurements.size(), 0);
     for (int i : step_.selected) previous_selected_[static_cast<std::size_t>(i)] = 1;
-    if (config_.pipeline.control_excludes_selected) control = vo.excluding(vo_estimate, previous_selected_);
+    if (config_.pipeline.control_excludes != "none")
+      control = vo.excluding(
+          vo_estimate, control_exclusion(config_.pipeline.control_excludes, previous_selected_, tracked));
     step_.Z.reserve(step_.selected.size());
     for (int i : step_.selected) step_.Z.push_back(measurements[static_cast<std::size_t>(i)].z);
     if (model_.uses_appearance()) {  // index-aligned with Z; the filter's copies of the model share them
