@@ -42,14 +42,16 @@ std::vector<char> tracked_from(const std::vector<int>& previous_measurement,
                                const std::vector<char>& previous_flags);
 
 /// Which of this frame's measurements the backend's control u_k, Q_k leaves out
-/// (`pipeline.control_excludes`), so that no pixel pair is counted twice, once in the VO motion and once in
-/// the landmark updates:
-///  - "tracked": those handed to the backend in this frame and in the previous one (`tracked_selected`): the
-///    backend's landmark already holds the previous pixel and takes the current one, so the pair's
-///    information on the motion reaches it there. A feature first handed over in this frame keeps its pair in
-///    the control: its landmark is born now and says nothing about the motion from the previous frame.
-///  - "selected": every measurement handed to the backend in this frame (the pairs of newly handed features
-///    are then in neither: on rendered KITTI 01, 150 vs 300 measurements per frame, 0.72 vs 0.85 % drift);
+/// (`pipeline.control_excludes`):
+///  - "selected" (the default): every measurement handed to the backend in this frame, so no pixel is counted
+///    twice (once in the VO motion, once in a landmark update); a feature handed over for the first time then
+///    loses its previous-to-current pixel pair, since its landmark is born now and says nothing about the
+///    motion (on rendered KITTI 01, 300 instead of 150 measurements per frame raised the drift from 0.72 to
+///    0.85 %).
+///  - "tracked": only those handed over in this frame and in the previous one (`tracked_selected`), whose
+///    landmark already holds the previous pixel; the new feature's pair stays in the control, at the price of
+///    its current pixel entering both the control and its landmark's initial position. Measured against
+///    "selected" it is mixed (docs/investigations.md, "Which points the control leaves out").
 ///  - "none": the control is the full VO motion.
 /// `selected` and `tracked_selected` are index-aligned with the frame's measurements.
 std::vector<char> control_exclusion(const std::string& mode, const std::vector<char>& selected,

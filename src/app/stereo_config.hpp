@@ -32,11 +32,11 @@ struct PipelineSettings {
   int max_octave = 0;
   bool prefer_tracked =
       true;  ///< in each cell, first the features the VO tracked from last frame's selection
-  /// The VO points the backend's control u_k, Q_k leaves out (no pixel pair counted twice): "tracked" (handed
-  /// to the backend now and in the previous frame), "selected" (handed to it now) or "none"; see
+  /// The VO points the backend's control u_k, Q_k leaves out: "selected" (handed to it now: no pixel counted
+  /// twice), "tracked" (handed to it now and in the previous frame: no pixel pair lost either) or "none"; see
   /// control_exclusion() in app/measurement_selection.hpp. The legacy key control_excludes_selected: true /
   /// false reads as "selected" / "none".
-  std::string control_excludes = "tracked";
+  std::string control_excludes = "selected";
   bool overlap_frontend = true;  ///< run the frontend of frame k+1 while the backend processes frame k
   bool write_plots = true;       ///< PNG plots next to metrics.json
   /// glmb2 / glmb1: δ-GLMB-SLAM with the optimal / prior proposal; lmb / lmb1: LMB-SLAM with the optimal /

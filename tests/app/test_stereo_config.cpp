@@ -94,14 +94,14 @@ TEST(StereoConfig, UnknownKeysWrongTypesAndBadRangesAreErrorsNamingTheKey) {
                "control_excludes_selected");
 }
 
-// pipeline.control_excludes (tracked, the default; selected; none); the key before it,
+// pipeline.control_excludes (selected, the default; tracked; none); the key before it,
 // control_excludes_selected, still reads: true as selected, false as none.
 TEST(StereoConfig, ControlExcludesAndItsLegacyKey) {
-  EXPECT_EQ(default_stereo_config().pipeline.control_excludes, "tracked");
+  EXPECT_EQ(default_stereo_config().pipeline.control_excludes, "selected");
   auto parse = [](const std::string& yaml) {
     return parse_stereo_config(YAML::Load(yaml), "test.yaml").pipeline.control_excludes;
   };
-  EXPECT_EQ(parse("pipeline:\n  control_excludes: selected\n"), "selected");
+  EXPECT_EQ(parse("pipeline:\n  control_excludes: tracked\n"), "tracked");
   EXPECT_EQ(parse("pipeline:\n  control_excludes: none\n"), "none");
   EXPECT_EQ(parse("pipeline:\n  control_excludes_selected: true\n"), "selected");
   EXPECT_EQ(parse("pipeline:\n  control_excludes_selected: false\n"), "none");
