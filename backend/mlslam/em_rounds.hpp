@@ -28,6 +28,8 @@ struct EmState {
   std::vector<Scan> scans;
   std::vector<double> motion_ll;
   double log_likelihood = 0.0;
+  /// s of the motion noise s·Q (MlSlamConfig::motion_noise "estimated": the M-step's ML estimate; else 1)
+  double motion_scale = 1.0;
 };
 
 /// next ← midway between `from` and `next` (poses in Motion's tangent space; landmarks both maps hold).

@@ -8,6 +8,7 @@ void load_mlslam_config(ConfigNode node, MlSlamConfig& c) {
   node.read_in_range("tolerance", c.tolerance, 0.0, 1e9);
   node.read_in_range("relative_tolerance", c.relative_tolerance, 0.0, 1.0);
   node.read_in_range("solver_iterations", c.solver_iterations, 1, 10000);
+  node.read_choice("motion_noise", c.motion_noise, {"configured", "estimated"});
   node.read_choice("linear_solver", c.linear_solver,
                    {"auto", "sparse_schur", "iterative_schur", "sparse_normal_cholesky"});
   node.read_in_range("max_assignments", c.max_assignments, 1, 100000);
@@ -37,6 +38,9 @@ void validate_mlslam_config(const MlSlamConfig& c) {
     throw ConfigError(
         "mlslam.linear_solver must be auto, sparse_schur, iterative_schur or sparse_normal_cholesky, got '" +
         c.linear_solver + "'");
+  }
+  if (c.motion_noise != "configured" && c.motion_noise != "estimated") {
+    throw ConfigError("mlslam.motion_noise must be configured or estimated, got '" + c.motion_noise + "'");
   }
   if (c.max_rounds < 1 || c.solver_iterations < 1 || c.max_assignments < 1) {
     throw ConfigError("mlslam.max_rounds, solver_iterations and max_assignments must be at least 1");

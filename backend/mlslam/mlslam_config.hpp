@@ -18,6 +18,11 @@ struct MlSlamConfig {
   /// long stereo run the last rounds add a few nats out of thousands and cost as much as the first.
   double relative_tolerance = 0.0;
   int solver_iterations = 10;  ///< Levenberg–Marquardt iterations per M-step
+  /// The motion noise of the motion factors: "configured" (the motion model's Q) or "estimated" (s·Q with the
+  /// scale s of maximum likelihood, re-estimated in every M-step after the trajectory: s = Σ rᵀQ⁻¹r / (d·K),
+  /// r the motion residuals, d their dimension). A filter's motion noise is often set wide on purpose (its
+  /// particles must cover slips and outliers), which the batch solve does not need. RfsMlSlam only.
+  std::string motion_noise = "configured";
   /// The M-step's linear solver (Ceres): "sparse_schur" (landmarks eliminated, the reduced pose system
   /// factorised), "sparse_normal_cholesky" (the whole normal equations, fill-reducing ordering),
   /// "iterative_schur" (conjugate gradients on the reduced system, Schur–Jacobi preconditioned), or "auto":

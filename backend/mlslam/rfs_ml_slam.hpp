@@ -54,6 +54,7 @@ struct MlSlamReport {
   double ms = 0.0;
   double e_step_ms = 0.0, m_step_ms = 0.0;  ///< of ms: the E-steps (likelihood and β), the M-steps (Ceres)
   double moves_ms = 0.0;                    ///< of ms: the cardinality moves (candidates and their Δl)
+  double motion_scale = 1.0;  ///< s of the motion noise s·Q at the end (1 unless motion_noise "estimated")
 };
 
 template <class Motion, class Model, class Parts = PlanarMlSlamParts<Motion, Model>>
@@ -84,6 +85,9 @@ class RfsMlSlam {
     check_sizes(poses, controls, scans);
     Stopwatch watch;
     State s{poses, map, {}, {}};
+    // the noise scale of the starting trajectory (its ML value there), before the first M-step
+    if (config_.motion_noise == "estimated" && !nearest_neighbour())
+      s.motion_scale = estimate_motion_scale(s.poses, controls);
     MlSlamReport report;
     auto timed_e_step = [&](State& state) {
       Stopwatch e;
@@ -108,6 +112,7 @@ class RfsMlSlam {
         },
         report);
     report.ms = watch.elapsed_ms();
+    report.motion_scale = s.motion_scale;
     poses = std::move(s.poses);
     map = std::move(s.map);
     return report;
@@ -165,6 +170,26 @@ class RfsMlSlam {
   }
 
   const typename Parts::Detection& detection() const { return p_D_; }
+
+  /// log g(x_i | x_{i−1}, u_i) with the noise s·Q: log N(r; 0, Q) + ½ m (1 − 1/s) − ½ d log s, m = rᵀQ⁻¹r.
+  double motion_log_density(const Pose& prev, const Pose& cur, const Control& u, double scale) const {
+    const double l = motion_.log_density(cur, prev, u);
+    if (scale == 1.0) return l;
+    const double m = whitened_motion(prev, cur, u).squaredNorm();
+    const double d = static_cast<double>(Motion::Tangent::RowsAtCompileTime);
+    return l + 0.5 * m * (1.0 - 1.0 / scale) - 0.5 * d * std::log(scale);
+  }
+
+  /// The ML motion-noise scale at the current trajectory, s = Σ rᵀQ⁻¹r / (d·K) (MlSlamConfig::motion_noise),
+  /// kept within [1e-4, 1e4].
+  double estimate_motion_scale(const PoseList& poses, const ControlList& controls) const {
+    double sum = 0.0;
+    for (std::size_t i = 1; i < poses.size(); ++i)
+      sum += whitened_motion(poses[i - 1], poses[i], controls[i]).squaredNorm();
+    const double n = static_cast<double>(Motion::Tangent::RowsAtCompileTime) *
+                     static_cast<double>(poses.size() > 1 ? poses.size() - 1 : 1);
+    return std::clamp(sum / n, 1e-4, 1e4);
+  }
 
  private:
   using State = EmState<PoseList, LandmarkList>;
@@ -240,7 +265,7 @@ class RfsMlSlam {
       if (i > 0) {
         s.motion_ll[i] = nearest_neighbour()
                              ? -0.5 * whitened_motion(s.poses[i - 1], s.poses[i], controls[i]).squaredNorm()
-                             : motion_.log_density(s.poses[i], s.poses[i - 1], controls[i]);
+                             : motion_log_density(s.poses[i - 1], s.poses[i], controls[i], s.motion_scale);
       }
     });
     s.log_likelihood = 0.0;
@@ -312,7 +337,8 @@ class RfsMlSlam {
     auto block = [&](std::size_t i) { return blocks.data() + i * B; };
     for (std::size_t i = 0; i < K; ++i) Parts::to_block(s.poses[i], block(i));
     for (std::size_t i = 1; i < K; ++i) {
-      const auto W = whitening(motion_.process_noise(s.poses[i - 1], controls[i]));
+      const auto W =
+          whitening(motion_.process_noise(s.poses[i - 1], controls[i])) / std::sqrt(s.motion_scale);
       problem.AddResidualBlock(Parts::motion_factor(motion_, controls[i], W), nullptr, block(i - 1),
                                block(i));
     }
@@ -352,6 +378,9 @@ class RfsMlSlam {
     ceres::Solver::Summary summary;
     ceres::Solve(so, &problem, &summary);
     for (std::size_t i = 1; i < K; ++i) s.poses[i] = Parts::from_block(block(i));
+    // the conditional M-step of the noise scale given the new trajectory (raises l again)
+    if (config_.motion_noise == "estimated" && !nearest_neighbour())
+      s.motion_scale = estimate_motion_scale(s.poses, controls);
   }
 
   // ---- cardinality moves -------------------------------------------------------------------------------

@@ -37,10 +37,13 @@ class StereoBatchMlSlam {
       : motion_(motion), model_(model), config_(config), p_D_(StereoMlSlamParts::detection(model, config)) {
     validate_mlslam_config(config_);
     if (!supports(config_))
-      throw std::invalid_argument("StereoBatchMlSlam: no cardinality moves, association rfs only");
+      throw std::invalid_argument(
+          "StereoBatchMlSlam: no cardinality moves, association rfs and the configured motion noise only");
   }
 
-  static bool supports(const MlSlamConfig& c) { return !c.cardinality_moves && c.association == "rfs"; }
+  static bool supports(const MlSlamConfig& c) {
+    return !c.cardinality_moves && c.association == "rfs" && c.motion_noise == "configured";
+  }
 
   /// Refines `poses` (x_0 held) and `map` in place; as RfsMlSlam::solve.
   MlSlamReport solve(PoseList& poses, const ControlList& controls, const std::vector<MeasurementSet>& scans,

@@ -30,9 +30,10 @@ double solve_victoria_park_ml(const backend::AckermannMotion& motion,
     r = slam.solve(x, u, Z, m);
   }
   spdlog::info(
-      "RFS-ML: {} rounds, log-likelihood {:.1f} -> {:.1f}, {} births, {} deaths, {} merges, {:.1f} s",
+      "RFS-ML: {} rounds, log-likelihood {:.1f} -> {:.1f}, {} births, {} deaths, {} merges, motion noise "
+      "scale {:.4f}, {:.1f} s",
       r.rounds, r.initial_log_likelihood, r.final_log_likelihood, r.births, r.deaths, r.merges,
-      r.ms / 1000.0);
+      r.motion_scale, r.ms / 1000.0);
   poses.assign(x.begin() + 1, x.end());
   map.assign(m.begin(), m.end());
   return r.ms;

@@ -5,6 +5,10 @@
 
 #include <memory>
 
+#include <yaml-cpp/yaml.h>
+
+#include "core/config_node.hpp"
+#include "core/error.hpp"
 #include "core/parallel.hpp"
 #include "mlslam_test_problem.hpp"
 
@@ -76,6 +80,62 @@ TEST(MlSlamSolver, ConvergesFromAPerturbedStart) {
   EXPECT_LT(max_landmark_error(m, p.landmarks), 0.05);
   // a stationary point: the truth is not more likely than the solution
   EXPECT_GE(r.final_log_likelihood, slam.log_likelihood(p.truth, p.controls, p.scans, p.landmarks) - 1e-6);
+}
+
+// motion_noise "estimated": the odometry was drawn with σ_v, σ_ω a third of the configured ones, so the ML
+// scale of the configured Q lies near (1/3)² = 0.111, between that and 2/3 of it (0.074: the unicycle's Q has
+// rank 2 of the tangent's 3 plus a tiny regulariser), less what the fit absorbs (measured 0.099); the log
+// density with the scale is the Gaussian of s·Q; l never falls between rounds and ends above the solve with
+// the configured noise.
+TEST(MlSlamSolver, EstimatedMotionNoiseScaleIsTheMaximumLikelihoodOne) {
+  const auto p = test::make_problem(60, 6, 0.9, 1.0, 21);
+  UnicycleMotionConfig wide = p.motion.config();
+  wide.sigma_v *= 3.0;
+  wide.sigma_omega *= 3.0;
+  const UnicycleMotion motion(wide);
+  MlSlamConfig configured;
+  configured.cardinality_moves = false;
+  MlSlamConfig estimated = configured;
+  estimated.motion_noise = "estimated";
+  Slam2D::PoseList x_c = p.odometry, x_e = p.odometry;
+  Slam2D::LandmarkList m_c = p.landmarks, m_e = p.landmarks;
+  const MlSlamReport r_c = Slam2D(motion, p.model, configured).solve(x_c, p.controls, p.scans, m_c);
+  const MlSlamReport r_e = Slam2D(motion, p.model, estimated).solve(x_e, p.controls, p.scans, m_e);
+  EXPECT_EQ(r_c.motion_scale, 1.0);
+  EXPECT_GT(r_e.motion_scale, 0.06);
+  EXPECT_LT(r_e.motion_scale, 0.125);
+  for (std::size_t i = 1; i < r_e.log_likelihood_per_round.size(); ++i)
+    EXPECT_GE(r_e.log_likelihood_per_round[i], r_e.log_likelihood_per_round[i - 1]);
+  EXPECT_GT(r_e.final_log_likelihood, r_c.final_log_likelihood);
+  EXPECT_LT(test::max_position_error(x_e, p.truth), 0.05);
+  // the scaled density: log N(r; 0, sQ) against a direct evaluation
+  const Slam2D::Pose prev = p.truth[3], cur = p.truth[4] + Slam2D::Pose(0.01, -0.02, 0.005);
+  const double s = 0.2;
+  UnicycleMotionConfig scaled = wide;
+  scaled.sigma_v *= std::sqrt(s);
+  scaled.sigma_omega *= std::sqrt(s);
+  scaled.regulariser *= s;
+  const double direct = UnicycleMotion(scaled).log_density(cur, prev, p.controls[4]);
+  EXPECT_NEAR(Slam2D(motion, p.model, estimated).motion_log_density(prev, cur, p.controls[4], s), direct,
+              1e-9 * std::abs(direct));
+}
+
+// mlslam.motion_noise: configured (the default) or estimated; anything else is an error naming the key.
+TEST(MlSlamSolver, MotionNoiseKey) {
+  auto load = [](const std::string& yaml) {
+    MlSlamConfig c;
+    ConfigNode node(YAML::Load(yaml), "test.yaml", "mlslam");
+    load_mlslam_config(node, c);
+    return c.motion_noise;
+  };
+  EXPECT_EQ(MlSlamConfig{}.motion_noise, "configured");
+  EXPECT_EQ(load("motion_noise: estimated\n"), "estimated");
+  try {
+    load("motion_noise: learned\n");
+    ADD_FAILURE() << "no error";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("motion_noise"), std::string::npos) << e.what();
+  }
 }
 
 TEST(MlSlamSolver, CardinalityMovesRaiseTheLikelihood) {
