@@ -86,8 +86,7 @@ class RfsMlSlam {
     Stopwatch watch;
     State s{poses, map, {}, {}};
     // the noise scale of the starting trajectory (its ML value there), before the first M-step
-    if (config_.motion_noise == "estimated" && !nearest_neighbour())
-      s.motion_scale = estimate_motion_scale(s.poses, controls);
+    if (estimates_motion_noise()) s.motion_scale = estimate_motion_scale(s.poses, controls);
     MlSlamReport report;
     auto timed_e_step = [&](State& state) {
       Stopwatch e;
@@ -196,6 +195,8 @@ class RfsMlSlam {
   using ScanState = typename State::Scan;
 
   bool nearest_neighbour() const { return config_.association == "nearest_neighbour"; }
+  /// MlSlamConfig::motion_noise "estimated" (the vector baseline keeps its unit-weight cost)
+  bool estimates_motion_noise() const { return config_.motion_noise == "estimated" && !nearest_neighbour(); }
 
   ceres::LinearSolverType linear_solver(std::size_t poses) const {
     const std::string& s = config_.linear_solver;
@@ -379,8 +380,7 @@ class RfsMlSlam {
     ceres::Solve(so, &problem, &summary);
     for (std::size_t i = 1; i < K; ++i) s.poses[i] = Parts::from_block(block(i));
     // the conditional M-step of the noise scale given the new trajectory (raises l again)
-    if (config_.motion_noise == "estimated" && !nearest_neighbour())
-      s.motion_scale = estimate_motion_scale(s.poses, controls);
+    if (estimates_motion_noise()) s.motion_scale = estimate_motion_scale(s.poses, controls);
   }
 
   // ---- cardinality moves -------------------------------------------------------------------------------

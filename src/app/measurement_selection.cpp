@@ -1,8 +1,7 @@
 #include "app/measurement_selection.hpp"
 
-#include <stdexcept>
-
 #include <algorithm>
+#include <stdexcept>
 
 namespace glmbslam::app {
 

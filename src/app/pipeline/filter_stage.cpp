@@ -99,9 +99,7 @@ const FilterStep& FilterStage::step(const FrameWork& work, const frontend::VoEst
     const auto& measurements = work.features.measurements;
     // the features the VO tracked from last frame's selection: preferred (track continuity), and the ones
     // whose motion information reaches the backend through their landmarks
-    std::vector<char> tracked(measurements.size(), 0);
-    if (!vo_estimate.previous_measurement.empty())
-      tracked = tracked_from(vo_estimate.previous_measurement, previous_selected_);
+    const std::vector<char> tracked = tracked_from(vo_estimate.previous_measurement, previous_selected_);
     step_.selected = select_measurements(measurements, grid_, rules_,
                                          config_.pipeline.prefer_tracked ? tracked : std::vector<char>{});
     previous_selected_.assign(measurements.size(), 0);
