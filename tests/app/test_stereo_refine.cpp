@@ -39,6 +39,15 @@ class StereoRefine : public ::testing::Test {
     o.refine = "ml";
     return o;
   }
+  /// Runs `o` with `yaml` as its config file (written to `name`.yaml) and returns its metrics.json.
+  static nlohmann::json run_with_config(RunOptions& o, const std::string& name, const std::string& yaml) {
+    const fs::path cfg = root_ / (name + ".yaml");
+    std::ofstream(cfg) << yaml;
+    o.config_file = cfg.string();
+    EXPECT_EQ(run_stereo(o), 0);
+    std::ifstream in(fs::path(o.out_dir) / "metrics.json");
+    return nlohmann::json::parse(in);
+  }
   static fs::path root_;
   static fs::path clip_;
 };
@@ -64,18 +73,28 @@ TEST_F(StereoRefine, WritesTheRefinedTrajectoryMapAndMetrics) {
   EXPECT_GT(j["refinement"]["windows"].get<double>(), 0.0);
   EXPECT_GT(j["refinement"]["final_log_likelihood_gain"].get<double>(), 0.0);
   EXPECT_GT(j["map"]["refined_landmarks"].get<int>(), 50);
+  // measurement.pixel_sigma auto (the default): the final pass's σ, the median of the filter's per-frame σ,
+  // is reported and lies within the clamp of the estimate (pixel_sigma_floor / _ceiling defaults)
+  ASSERT_TRUE(j["refinement"].contains("final_pixel_sigma"));
+  EXPECT_GE(j["refinement"]["final_pixel_sigma"].get<double>(), 0.3);
+  EXPECT_LE(j["refinement"]["final_pixel_sigma"].get<double>(), 2.0);
+}
+
+TEST_F(StereoRefine, AFixedPixelSigmaIsTheFinalPassSigma) {
+  RunOptions o = options("fixed_sigma");
+  o.last_frame = 8;
+  const nlohmann::json j = run_with_config(o, "fixed_sigma", "measurement:\n  pixel_sigma: 0.8\n");
+  EXPECT_TRUE(j["refinement"].contains("final_ms"));
+  EXPECT_NEAR(j["refinement"]["final_pixel_sigma"].get<double>(), 0.8, 1e-12);  // nothing estimated
 }
 
 TEST_F(StereoRefine, ReadsTheRefineSectionAndRejectsBadValues) {
-  const fs::path cfg = root_ / "refine.yaml";
   RunOptions o = options("config");
   o.refine.clear();  // enabled from the config
-  o.config_file = cfg.string();
   o.last_frame = 8;
-  std::ofstream(cfg) << "refine:\n  enabled: true\n  window: 4\n  every: 2\n  final: false\n";
-  ASSERT_EQ(run_stereo(o), 0);
-  std::ifstream in(fs::path(o.out_dir) / "metrics.json");
-  const nlohmann::json j = nlohmann::json::parse(in);
+  const nlohmann::json j =
+      run_with_config(o, "refine", "refine:\n  enabled: true\n  window: 4\n  every: 2\n  final: false\n");
+  const fs::path cfg = o.config_file;
   EXPECT_EQ(j["refinement"]["windows"].get<double>(), 4.0);  // frames 2, 4, 6, 8
   EXPECT_FALSE(j["refinement"].contains("final_ms"));
   auto expect_error = [&](const std::string& yaml, const std::string& key) {

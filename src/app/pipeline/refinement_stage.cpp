@@ -1,6 +1,7 @@
 #include "app/pipeline/refinement_stage.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <ctime>
 
 #include <spdlog/spdlog.h>
@@ -51,7 +52,10 @@ void RefinementStage::on_frame(const FrameOutcome& frame) {
   if (frame.filter == nullptr || frame.filter_step == nullptr) return;  // no backend: nothing to refine
   const FilterStep& step = *frame.filter_step;
   // measurement.pixel_sigma auto: the filter's σ (the VO's estimate); the solvers' model copies share it
-  if (automatic_pixel_sigma_) model_.set_pixel_sigma(frame.vo.pixel_sigma);
+  if (automatic_pixel_sigma_) {
+    model_.set_pixel_sigma(frame.vo.pixel_sigma);
+    pixel_sigmas_.push_back(frame.vo.pixel_sigma);
+  }
   scans_.emplace_back(step.Z.begin(), step.Z.end());
   if (loop_closing_ && frame.work.loaded) loop_closing_->add_frame(frame.k, frame.work.features.measurements);
   controls_.push_back(step.control);
@@ -99,6 +103,9 @@ void RefinementStage::on_finish(RunRecord& record) {
   for (auto& p : record.refined_map) p.position = correction * p.position;
   // an interrupted run keeps the online result: the final pass is the long part
   if (!settings_.final_pass || record.interrupted || record.slam_poses.size() != refined_.size()) return;
+  // auto: the run's σ, not its last stretch's (see the header); fixed: the configured σ
+  if (!pixel_sigmas_.empty()) model_.set_pixel_sigma(quantile(pixel_sigmas_, 0.5));
+  stats["final_pixel_sigma"] = std::sqrt(model_.noise()(0, 0));
   Stopwatch watch;
   const std::clock_t cpu_start = std::clock();  // the process's CPU time: the final pass on a loaded machine
   PoseList start = record.slam_poses;
