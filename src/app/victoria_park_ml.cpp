@@ -29,6 +29,8 @@ double solve_victoria_park_ml(const backend::AckermannMotion& motion,
     x.insert(x.end(), poses.begin(), poses.end());
     r = slam.solve(x, u, Z, m);
   }
+  for (std::size_t i = 0; i < r.log_likelihood_per_round.size(); ++i)
+    spdlog::debug("RFS-ML: round {}: log-likelihood {:.3f}", i + 1, r.log_likelihood_per_round[i]);
   spdlog::info(
       "RFS-ML: {} rounds, log-likelihood {:.1f} -> {:.1f}, {} births, {} deaths, {} merges, motion noise "
       "scale {:.4f}, {:.1f} s",
