@@ -21,6 +21,7 @@
 // the same pixels is detected with the same error, which the residual between the two frames does not show.
 // The estimate pools the samples of the last window_frames usable frames and is clamped to
 // [floor, ceiling]; until min_samples are pooled it is the initial value.
+#include <cmath>
 #include <cstddef>
 #include <deque>
 #include <vector>
@@ -59,6 +60,8 @@ class PixelNoiseEstimator {
   double sigma() const { return sigma_; }
   /// The unclamped estimate (NaN before enough samples are pooled).
   double raw_sigma() const { return raw_sigma_; }
+  /// True once enough samples were pooled: sigma() is an estimate, not the initial value.
+  bool estimated() const { return !std::isnan(raw_sigma_); }
   std::size_t samples() const { return pooled_; }
   const PixelNoiseOptions& options() const { return options_; }
 

@@ -132,6 +132,7 @@ VoEstimate StereoVisualOdometry::skip_frame(VoStatus reason, double timestamp) {
   }
   spdlog::warn("vo: frame {}: {} → constant-velocity fallback", frames_ - 1, to_string(reason));
   e.pixel_sigma = noise_.sigma();
+  e.pixel_sigma_estimated = noise_.estimated();
   e.ms = sw.elapsed_ms();
   return e;
 }
@@ -242,6 +243,7 @@ VoEstimate StereoVisualOdometry::track(const StereoFrameFeatures& frame, double 
   const std::size_t k = frames_ - 1;
   auto finish = [&](VoEstimate e) {
     e.pixel_sigma = noise_.sigma();
+    e.pixel_sigma_estimated = noise_.estimated();
     e.ms = sw.elapsed_ms();
     return e;
   };

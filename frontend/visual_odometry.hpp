@@ -47,7 +47,8 @@ struct VoEstimate {
   /// The sequence's keypoint noise σ (px, level 0) estimated from the residuals up to this frame
   /// (pixel_noise_estimator.hpp; its initial value until enough frames were seen).
   double pixel_sigma = 1.0;
-  double ms = 0.0;  ///< wall time of track()
+  bool pixel_sigma_estimated = false;  ///< pixel_sigma is an estimate (false: still the initial value)
+  double ms = 0.0;                     ///< wall time of track()
   bool fallback() const {
     return status != VoStatus::kTracked && status != VoStatus::kFirstFrame &&
            status != VoStatus::kRepeatedImage;

@@ -75,8 +75,10 @@ TEST(PixelNoiseEstimator, WindowClampAndStillFrames) {
   EXPECT_DOUBLE_EQ(e.sigma(), 1.0);                          // 100 < 150 samples: still the initial value
   EXPECT_FALSE(e.add_frame(frame(0.05, 400), 100000, 0.5));  // a still frame is not used
   EXPECT_TRUE(std::isnan(e.raw_sigma()));
+  EXPECT_FALSE(e.estimated());
   for (int k = 0; k < 5; ++k) e.add_frame(frame(0.5, 400), 100000, 10.0);
   EXPECT_NEAR(e.sigma(), 0.5, 0.03);
+  EXPECT_TRUE(e.estimated());
   for (int k = 0; k < 5; ++k) e.add_frame(frame(0.1, 400), 100000, 10.0);  // the window forgets the 0.5
   EXPECT_NEAR(e.raw_sigma(), 0.1, 0.006);
   EXPECT_DOUBLE_EQ(e.sigma(), 0.3);  // floor

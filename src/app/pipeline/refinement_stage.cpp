@@ -54,7 +54,7 @@ void RefinementStage::on_frame(const FrameOutcome& frame) {
   // measurement.pixel_sigma auto: the filter's σ (the VO's estimate); the solvers' model copies share it
   if (automatic_pixel_sigma_) {
     model_.set_pixel_sigma(frame.vo.pixel_sigma);
-    pixel_sigmas_.push_back(frame.vo.pixel_sigma);
+    if (frame.vo.pixel_sigma_estimated) pixel_sigmas_.push_back(frame.vo.pixel_sigma);
   }
   scans_.emplace_back(step.Z.begin(), step.Z.end());
   if (loop_closing_ && frame.work.loaded) loop_closing_->add_frame(frame.k, frame.work.features.measurements);
@@ -103,7 +103,8 @@ void RefinementStage::on_finish(RunRecord& record) {
   for (auto& p : record.refined_map) p.position = correction * p.position;
   // an interrupted run keeps the online result: the final pass is the long part
   if (!settings_.final_pass || record.interrupted || record.slam_poses.size() != refined_.size()) return;
-  // auto: the run's σ, not its last stretch's (see the header); fixed: the configured σ
+  // auto: the run's σ, not its last stretch's (see the header; the last σ if none was estimated yet);
+  // fixed: the configured σ
   if (!pixel_sigmas_.empty()) model_.set_pixel_sigma(quantile(pixel_sigmas_, 0.5));
   stats["final_pixel_sigma"] = std::sqrt(model_.noise()(0, 0));
   Stopwatch watch;

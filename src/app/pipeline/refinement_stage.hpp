@@ -9,7 +9,8 @@
 //           frame by the correction at the window's first pose; frames not yet refined follow the filter's
 //           motion from the last refined pose.
 //   final:  one solve over the whole run from the filter's final trajectory and map (`refine.final`). With
-//           measurement.pixel_sigma auto its σ is the median of the σ the filter used frame by frame: the
+//           measurement.pixel_sigma auto its σ is the median of the σ the filter used frame by frame (the
+//           frames whose σ was an estimate, not the initial value before enough residuals): the
 //           last frame's σ describes only the last 100 moving frames (on rendered KITTI 08, 1.28 px after a
 //           hard last stretch against a median of 0.64 px, which widened every gate of the pass and made its
 //           t_rel 0.257 % against 0.201 % with the median).
@@ -45,7 +46,8 @@ class RefinementStage : public PipelineStage {
   backend::Se3Motion motion_;
   backend::StereoMeasurementModel model_;
   bool automatic_pixel_sigma_;  ///< measurement.pixel_sigma auto: follow the filter's σ
-  /// measurement.pixel_sigma auto: the filter's σ at each frame (the final pass takes their median)
+  /// measurement.pixel_sigma auto: the filter's σ at each frame where it was an estimate (the final pass
+  /// takes their median)
   std::vector<double> pixel_sigmas_;
   backend::StereoMlSlam window_solver_, final_solver_;
   std::optional<LoopClosing> loop_closing_;  ///< refine.loop_closure
