@@ -48,6 +48,9 @@ struct Innovation {
   Eigen::Matrix<double, Meas::kLandmarkDim, Meas::kMeasDim> K;  ///< P H_mᵀ S⁻¹
   typename Meas::LandmarkCovariance P_updated;                  ///< Joseph form (I−KH)P(I−KH)ᵀ + KRKᵀ
   double log_norm = 0.0;                                        ///< −½(d log 2π + log|S|)
+  /// diag(S): νᵀS⁻¹ν ≥ ν_i² / S_ii for any SPD S, so a residual with ν_i² > gate · S_ii fails the gate
+  /// without the triangular solve (update() widens the bound by 1e-6 to cover the solve's rounding)
+  typename Meas::Measurement diag_S;
   bool valid = false;
 
   void compute(const Meas& model, const typename Meas::Pose& x, const typename Meas::Landmark& mean,
@@ -57,6 +60,7 @@ struct Innovation {
     S_llt.compute(S);
     valid = S_llt.info() == Eigen::Success;
     if (!valid) return;
+    diag_S = S.diagonal();
     K = llt_solve(S_llt, H_m * P).transpose();
     const typename Meas::LandmarkCovariance I_KH = Meas::LandmarkCovariance::Identity() - K * H_m;
     P_updated = I_KH * P * I_KH.transpose() + K * model.noise() * K.transpose();
@@ -72,6 +76,7 @@ struct Innovation {
               double gate, typename Meas::Landmark* mean_out, double* log_likelihood) const {
     if (!valid) return false;
     const typename Meas::Measurement nu = model.residual(z, zhat);
+    if ((nu.array().square() > (gate * (1.0 + 1e-6)) * diag_S.array()).any()) return false;
     const double d2 = S_llt.matrixL().solve(nu).squaredNorm();
     if (!(d2 <= gate)) return false;
     *mean_out = mean + K * nu;

@@ -159,5 +159,54 @@ TEST(GlmbStereoUpdate, WithDescriptorsMatchesBruteForceEnumeration) {
   EXPECT_GT(std::abs(log_g - check_against_enumeration(geometric, p, 44)), 0.1);
 }
 
+// Innovation::update rejects a residual early when ν_i² > gate·S_ii (a bound of νᵀS⁻¹ν); it must decide every
+// pair exactly as the full Mahalanobis test, also for strongly correlated S (landmark covariances elongated
+// in depth) and residuals on the gate's boundary.
+TEST(GlmbUpdateStereo, EarlyGateRejectionDecidesAsTheMahalanobisTest) {
+  StereoMeasurementConfig c = broad_sensor(false);
+  c.pixel_sigma = 0.7;
+  const Model model(kitti_calibration(), c);
+  RandomStream rng(5, 0);
+  const Pose3 x = Pose3::Identity();
+  const double gate = 16.0;
+  int accepted = 0, rejected = 0, boundary = 0;
+  for (int trial = 0; trial < 400; ++trial) {
+    const Eigen::Vector3d mean(rng.uniform(-5.0, 5.0), rng.uniform(-2.0, 2.0), rng.uniform(4.0, 40.0));
+    Eigen::Matrix3d A;
+    for (int i = 0; i < 9; ++i) A.data()[i] = rng.normal();
+    const Eigen::Vector3d axis = Eigen::Vector3d(rng.normal(), rng.normal(), 3.0).normalized();
+    const Eigen::Matrix3d P = std::pow(10.0, rng.uniform(-4.0, 0.0)) * A * A.transpose() +
+                              std::pow(10.0, rng.uniform(-2.0, 1.0)) * axis * axis.transpose();
+    Innovation<Model> inn;
+    inn.compute(model, x, mean, P);
+    ASSERT_TRUE(inn.valid);
+    const Eigen::Matrix3d S = inn.S_llt.reconstructedMatrix();
+    const Eigen::LLT<Eigen::Matrix3d> L(S);
+    for (int k = 0; k < 50; ++k) {
+      // residuals along random directions, scaled to a Mahalanobis radius around the gate (some exactly on
+      // it)
+      const Eigen::Vector3d d(rng.normal(), rng.normal(), rng.normal());
+      const double radius = k % 5 == 0 ? std::sqrt(gate) : std::sqrt(gate) * rng.uniform(0.2, 2.0);
+      const Eigen::Vector3d nu = radius * Eigen::Vector3d(L.matrixL() * d.normalized());
+      const Eigen::Vector3d z = inn.zhat + nu;
+      const double d2 = inn.S_llt.matrixL().solve(model.residual(z, inn.zhat)).squaredNorm();
+      Eigen::Vector3d m_out;
+      double log_lik = 0.0;
+      const bool in_gate = inn.update(model, mean, z, gate, &m_out, &log_lik);
+      ASSERT_EQ(in_gate, d2 <= gate) << "d2 " << d2;
+      if (in_gate) {
+        EXPECT_DOUBLE_EQ(log_lik, inn.log_norm - 0.5 * d2);
+        ++accepted;
+      } else {
+        ++rejected;
+      }
+      boundary += std::abs(d2 - gate) < 1e-9 * gate ? 1 : 0;
+    }
+  }
+  EXPECT_GT(accepted, 2000);
+  EXPECT_GT(rejected, 2000);
+  EXPECT_GT(boundary, 100);  // pairs on the gate's boundary were compared too
+}
+
 }  // namespace
 }  // namespace glmbslam::backend

@@ -1,7 +1,8 @@
-// llt_solve reproduces Eigen's LLT::solve bit for bit (2×2 factor, 2×2 and 2×3 right-hand sides), on random
-// well- and ill-conditioned systems.
+// llt_solve reproduces Eigen's LLT::solve bit for bit (2×2 factor: 2×2 and 2×3 right-hand sides; 3×3 factor:
+// 3×3 and 3×6 right-hand sides; plain matrices and products), on random well- and ill-conditioned systems.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstring>
 
 #include <Eigen/Cholesky>
@@ -18,33 +19,55 @@ bool bit_equal(const M& a, const M& b) {
   return std::memcmp(a.data(), b.data(), sizeof(double) * static_cast<std::size_t>(a.size())) == 0;
 }
 
-TEST(LltSolve, BitIdenticalToEigen) {
-  RandomStream rng(7, 0);
-  int compared = 0;
-  for (int trial = 0; trial < 20000; ++trial) {
-    Eigen::Matrix2d A;
-    A << rng.normal(), rng.normal(), rng.normal(), rng.normal();
-    const double scale = std::pow(10.0, rng.uniform(-6.0, 6.0));
-    Eigen::Matrix2d S = scale * A * A.transpose();
-    S.diagonal().array() += std::pow(10.0, rng.uniform(-8.0, 2.0));
-    const Eigen::LLT<Eigen::Matrix2d> llt(S);
+/// Entries N(0, 1) times 10^U(−e, e).
+template <int R, int C>
+Eigen::Matrix<double, R, C> random_matrix(RandomStream& rng, double e) {
+  Eigen::Matrix<double, R, C> m;
+  for (int i = 0; i < R * C; ++i) m.data()[i] = rng.normal() * std::pow(10.0, rng.uniform(-e, e));
+  return m;
+}
+
+/// A random SPD matrix with condition numbers up to ~10¹⁴.
+template <int N>
+Eigen::Matrix<double, N, N> random_spd(RandomStream& rng) {
+  const Eigen::Matrix<double, N, N> A = random_matrix<N, N>(rng, 0.0);
+  Eigen::Matrix<double, N, N> S = std::pow(10.0, rng.uniform(-6.0, 6.0)) * A * A.transpose();
+  S.diagonal().array() += std::pow(10.0, rng.uniform(-8.0, 2.0));
+  return S;
+}
+
+/// Right-hand sides N×N and N×C, and the products N×C·C×C and N×N·N×N (as the callers pass them).
+template <int N, int C>
+void expect_bit_identical(std::uint64_t seed, int trials) {
+  RandomStream rng(seed, 0);
+  for (int trial = 0; trial < trials; ++trial) {
+    const Eigen::Matrix<double, N, N> S = random_spd<N>(rng);
+    const Eigen::LLT<Eigen::Matrix<double, N, N>> llt(S);
     ASSERT_EQ(llt.info(), Eigen::Success);
-    Eigen::Matrix2d B2;
-    Eigen::Matrix<double, 2, 3> B3;
-    for (int i = 0; i < 4; ++i) B2.data()[i] = rng.normal() * std::pow(10.0, rng.uniform(-3.0, 3.0));
-    for (int i = 0; i < 6; ++i) B3.data()[i] = rng.normal() * std::pow(10.0, rng.uniform(-3.0, 3.0));
-    const Eigen::Matrix2d e2 = llt.solve(B2);
-    const Eigen::Matrix<double, 2, 3> e3 = llt.solve(B3);
-    ASSERT_TRUE(bit_equal(Eigen::Matrix2d(llt_solve(llt, B2)), e2)) << S << "\n" << B2;
-    ASSERT_TRUE(bit_equal(Eigen::Matrix<double, 2, 3>(llt_solve(llt, B3)), e3)) << S << "\n" << B3;
-    // products as right-hand sides (as the callers use it)
-    const Eigen::Matrix<double, 2, 3> H = B3;
-    const Eigen::Matrix3d P = Eigen::Matrix3d::Identity() * scale;
-    const Eigen::Matrix<double, 2, 3> e_prod = llt.solve(H * P);
-    ASSERT_TRUE(bit_equal(Eigen::Matrix<double, 2, 3>(llt_solve(llt, H * P)), e_prod));
-    compared += 3;
+    const Eigen::Matrix<double, N, N> B = random_matrix<N, N>(rng, 3.0);
+    const Eigen::Matrix<double, N, C> H = random_matrix<N, C>(rng, 3.0);
+    const Eigen::Matrix<double, C, C> P = random_matrix<C, C>(rng, 1.0);
+    ASSERT_TRUE(
+        bit_equal(Eigen::Matrix<double, N, N>(llt_solve(llt, B)), Eigen::Matrix<double, N, N>(llt.solve(B))))
+        << S << "\n"
+        << B;
+    ASSERT_TRUE(
+        bit_equal(Eigen::Matrix<double, N, C>(llt_solve(llt, H)), Eigen::Matrix<double, N, C>(llt.solve(H))))
+        << S << "\n"
+        << H;
+    ASSERT_TRUE(bit_equal(Eigen::Matrix<double, N, C>(llt_solve(llt, H * P)),
+                          Eigen::Matrix<double, N, C>(llt.solve(H * P))));
+    ASSERT_TRUE(bit_equal(Eigen::Matrix<double, N, N>(llt_solve(llt, B * S)),
+                          Eigen::Matrix<double, N, N>(llt.solve(B * S))));
   }
-  EXPECT_EQ(compared, 60000);
+}
+
+TEST(LltSolve, BitIdenticalToEigen2x2) {
+  expect_bit_identical<2, 3>(7, 20000);
+}
+
+TEST(LltSolve, BitIdenticalToEigen3x3) {
+  expect_bit_identical<3, 6>(11, 20000);
 }
 
 }  // namespace
