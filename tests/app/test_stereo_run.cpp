@@ -2,6 +2,7 @@
 // outputs, the accuracy of the trajectory and the map, graceful handling of bad frames, and bad input.
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <string>
 
 #include <unistd.h>
@@ -179,6 +180,33 @@ TEST_F(StereoRun, SameSeedSameTrajectoryWhateverTheThreadCount) {
   const auto tb = io::read_kitti_poses((fs::path(b.out_dir) / "trajectory.txt").string());
   ASSERT_EQ(ta.size(), tb.size());
   for (std::size_t i = 0; i < ta.size(); ++i) EXPECT_TRUE(ta[i].isApprox(tb[i], 1e-12)) << "frame " << i;
+}
+
+// The frontend computed up to FrameSource::kLookahead frames ahead on its worker (pipeline.overlap_frontend,
+// the default) and inline on the caller give the same trajectory, an unreadable frame included.
+TEST_F(StereoRun, FrontendAheadOrInlineSameTrajectory) {
+  const fs::path copy = root_ / "broken_ahead";
+  fs::remove_all(copy);
+  fs::create_directories(copy / "sequences");
+  fs::copy(sequence(), copy / "sequences" / "00", fs::copy_options::recursive);
+  const fs::path png = copy / "sequences" / "00" / "image_0" / "000007.png";
+  fs::resize_file(png, fs::file_size(png) / 3);
+  std::string trajectories[2];
+  for (int overlap = 0; overlap < 2; ++overlap) {
+    RunOptions o = options(overlap ? "ahead" : "inline");
+    o.dataset = (copy / "sequences" / "00").string();
+    o.last_frame = 14;
+    const fs::path cfg = root_ / (overlap ? "ahead.yaml" : "inline.yaml");
+    std::ofstream(cfg) << "pipeline:\n  overlap_frontend: " << (overlap ? "true" : "false") << "\n";
+    o.config_file = cfg.string();
+    ASSERT_EQ(run_stereo(o), 0);
+    std::ifstream in(fs::path(o.out_dir) / "trajectory.txt");
+    trajectories[overlap].assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    std::ifstream m(fs::path(o.out_dir) / "metrics.json");
+    EXPECT_EQ(nlohmann::json::parse(m)["filter"]["missing_frames"].get<int>(), 1);
+  }
+  EXPECT_EQ(count_lines(root_ / "ahead" / "trajectory.txt"), 14u);
+  EXPECT_EQ(trajectories[0], trajectories[1]);
 }
 
 TEST_F(StereoRun, BadInputIsAClearError) {

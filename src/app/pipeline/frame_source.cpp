@@ -13,10 +13,11 @@ FrameSource::FrameSource(const io::StereoDataset& dataset, const frontend::Stere
       frontend_(frontend),
       next_(first),
       last_(last),
+      submitted_(first),
       worker_(overlap ? std::make_unique<WorkerThread>() : nullptr) {}
 
 FrameSource::~FrameSource() {
-  if (ahead_.valid()) ahead_.wait();  // never leave a worker reading through a dangling reference
+  for (auto& f : ahead_) f.wait();  // never leave a worker reading through a dangling reference
 }
 
 FrameWork FrameSource::process(std::size_t index) const {
@@ -38,10 +39,16 @@ FrameWork FrameSource::process(std::size_t index) const {
 
 FrameWork FrameSource::next() {
   const std::size_t index = next_++;
-  FrameWork work = ahead_.valid() ? ahead_.get() : process(index);
-  if (worker_ && next_ < last_) {
-    ahead_ = worker_->submit([this, i = next_] { return process(i); });
+  FrameWork work;
+  if (ahead_.empty()) {  // the first frame (or no overlap): computed here
+    work = process(index);
+    submitted_ = next_;
+  } else {
+    work = ahead_.front().get();
+    ahead_.pop_front();
   }
+  for (; worker_ && submitted_ < last_ && submitted_ < next_ + kLookahead; ++submitted_)
+    ahead_.push_back(worker_->submit([this, i = submitted_] { return process(i); }));
   return work;
 }
 

@@ -1,10 +1,13 @@
 #pragma once
 // Stage 1 of the stereo pipeline (reader → frontend): loads the frames of a range in order and runs the
-// stereo frontend on them (ORB, stereo matching, triangulation), the next frame computed on a persistent
-// worker thread (core/worker_thread.hpp: one thread for the whole run, not one per frame) while the caller
-// works on the current one. A frame that cannot be read is returned with its error instead of the features:
-// the pipeline bridges it.
+// stereo frontend on them (ORB, stereo matching, triangulation), the next kLookahead frames computed on a
+// persistent worker thread (core/worker_thread.hpp: one thread for the whole run, not one per frame) while
+// the caller works on the current one. More than one frame ahead, the frames on which the caller is slow (a
+// refinement window every few frames) no longer stall the frontend: rendered 07 at N = 10 with --refine ml
+// ran at 17.9 fps one frame ahead, 18.7–19.5 three ahead (docs/investigations.md). A frame that cannot be
+// read is returned with its error instead of the features: the pipeline bridges it.
 #include <cstddef>
+#include <deque>
 #include <future>
 #include <memory>
 #include <string>
@@ -27,7 +30,11 @@ struct FrameWork {
 
 class FrameSource {
  public:
-  /// Frames [first, last) of `dataset`; `overlap`: compute frame k+1 while the caller handles frame k.
+  /// Frames computed ahead of the caller (with overlap); each holds one frame's features (a few hundred KiB).
+  static constexpr std::size_t kLookahead = 3;
+
+  /// Frames [first, last) of `dataset`; `overlap`: compute frames k+1 … k+kLookahead while the caller handles
+  /// frame k.
   FrameSource(const io::StereoDataset& dataset, const frontend::StereoFrontend& frontend, std::size_t first,
               std::size_t last, bool overlap);
   ~FrameSource();
@@ -44,8 +51,9 @@ class FrameSource {
   const io::StereoDataset& dataset_;
   const frontend::StereoFrontend& frontend_;
   std::size_t next_, last_;
-  std::unique_ptr<WorkerThread> worker_;  ///< with overlap: computes the frame ahead
-  std::future<FrameWork> ahead_;
+  std::size_t submitted_;                 ///< frames [next_, submitted_) are queued on the worker
+  std::unique_ptr<WorkerThread> worker_;  ///< with overlap: computes the frames ahead, in order
+  std::deque<std::future<FrameWork>> ahead_;
 };
 
 }  // namespace glmbslam::app
