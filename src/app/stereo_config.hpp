@@ -37,8 +37,8 @@ struct PipelineSettings {
   /// control_exclusion() in app/measurement_selection.hpp. The legacy key control_excludes_selected: true /
   /// false reads as "selected" / "none".
   std::string control_excludes = "selected";
-  bool overlap_frontend = true;  ///< run the frontend of frames k+1 … k+3 (FrameSource::kLookahead) while the
-                                 ///< backend processes frame k
+  /// run the frontend of frames k+1 … k+3 (FrameSource::kLookahead) while the backend processes frame k
+  bool overlap_frontend = true;
   bool write_plots = true;  ///< PNG plots next to metrics.json
   /// glmb2 / glmb1: δ-GLMB-SLAM with the optimal / prior proposal; lmb / lmb1: LMB-SLAM with the optimal /
   /// prior proposal; vo: no backend

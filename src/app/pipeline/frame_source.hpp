@@ -4,8 +4,8 @@
 // persistent worker thread (core/worker_thread.hpp: one thread for the whole run, not one per frame) while
 // the caller works on the current one. More than one frame ahead, the frames on which the caller is slow (a
 // refinement window every few frames) no longer stall the frontend: rendered 07 at N = 10 with --refine ml
-// ran at 17.9 fps one frame ahead, 18.7–19.5 three ahead (docs/investigations.md). A frame that cannot be
-// read is returned with its error instead of the features: the pipeline bridges it.
+// ran at 17.9–18.0 fps one frame ahead, 18.7–21.1 (mean 19.9) three ahead (docs/investigations.md). A frame
+// that cannot be read is returned with its error instead of the features: the pipeline bridges it.
 #include <cstddef>
 #include <deque>
 #include <future>
