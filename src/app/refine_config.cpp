@@ -31,6 +31,7 @@ void load_refine_config(ConfigNode node, RefineSettings& c) {
   node.read_in_range("every", c.every, 1, 100000);
   node.read("final", c.final_pass);
   node.read_in_range("window_rounds", c.window_rounds, 1, 1000);
+  node.read_choice("final_start", c.final_start, {"windows", "filter"});
   node.read("loop_closure", c.loop_closure);
   if (node.has("loop")) load_loop_config(node.child("loop"), c.loop);
   if (node.has("mlslam")) backend::load_mlslam_config(node.child("mlslam"), c.ml);

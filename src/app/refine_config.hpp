@@ -4,6 +4,8 @@
 // window online and over the whole run at the end. YAML mapping `refine` of the stereo config
 // (config/kitti*.yaml document every key); its child `mlslam` holds the solver's settings
 // (backend/mlslam/mlslam_config.hpp).
+#include <string>
+
 #include "app/pipeline/loop_detector.hpp"
 #include "backend/mlslam/mlslam_config.hpp"
 #include "core/config_node.hpp"
@@ -16,7 +18,12 @@ struct RefineSettings {
   int every = 5;           ///< solve the window every this many frames
   bool final_pass = true;  ///< key `final`: one solve over the whole run at the end (replaces the online one)
   int window_rounds = 3;   ///< EM rounds of a window solve (the final pass uses mlslam.max_rounds)
-  /// before the final pass, revisits close the loops of the filter's trajectory (pipeline/loop_closing.hpp)
+  /// Where the final pass starts: "windows" (the online windows' refined trajectory, each landmark moved
+  /// with the refinement of the frame that mapped it; the filter's when there is no window) or "filter"
+  /// (the filter's trajectory and map). EM only climbs to the nearest optimum, and the windows' start is
+  /// nearer a better one: rendered 01 refined t_rel 0.667 % from the filter, 0.293 % from the windows.
+  std::string final_start = "windows";
+  /// before the final pass, revisits close the loops of its start (pipeline/loop_closing.hpp)
   bool loop_closure = true;
   LoopDetectorOptions loop;  ///< key `loop`
   backend::MlSlamConfig ml = default_stereo_mlslam_config();

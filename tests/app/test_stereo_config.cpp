@@ -56,6 +56,12 @@ void expect_same(const StereoConfig& a, const StereoConfig& b, const std::string
   EXPECT_EQ(a.pipeline.control_excludes, b.pipeline.control_excludes);
   EXPECT_EQ(a.pipeline.algorithm, b.pipeline.algorithm);
   EXPECT_EQ(a.pipeline.trajectory_estimate, b.pipeline.trajectory_estimate);
+  EXPECT_EQ(a.refine.window, b.refine.window);
+  EXPECT_EQ(a.refine.every, b.refine.every);
+  EXPECT_EQ(a.refine.window_rounds, b.refine.window_rounds);
+  EXPECT_EQ(a.refine.final_pass, b.refine.final_pass);
+  EXPECT_EQ(a.refine.final_start, b.refine.final_start);
+  EXPECT_EQ(a.refine.loop_closure, b.refine.loop_closure);
 }
 
 TEST(StereoConfig, ShippedFilesDocumentTheBuiltInDefaults) {

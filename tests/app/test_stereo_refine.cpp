@@ -4,6 +4,7 @@
 // (vo).
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <string>
 
 #include <unistd.h>
@@ -47,6 +48,16 @@ class StereoRefine : public ::testing::Test {
     EXPECT_EQ(run_stereo(o), 0);
     std::ifstream in(fs::path(o.out_dir) / "metrics.json");
     return nlohmann::json::parse(in);
+  }
+  /// Writes `yaml` to `o`'s config file and expects run_stereo to throw a ConfigError naming `key`.
+  static void expect_config_error(const RunOptions& o, const std::string& yaml, const std::string& key) {
+    std::ofstream(o.config_file) << yaml;
+    try {
+      run_stereo(o);
+      FAIL() << "expected ConfigError for " << key;
+    } catch (const ConfigError& e) {
+      EXPECT_NE(std::string(e.what()).find(key), std::string::npos) << e.what();
+    }
   }
   static fs::path root_;
   static fs::path clip_;
@@ -94,20 +105,38 @@ TEST_F(StereoRefine, ReadsTheRefineSectionAndRejectsBadValues) {
   o.last_frame = 8;
   const nlohmann::json j =
       run_with_config(o, "refine", "refine:\n  enabled: true\n  window: 4\n  every: 2\n  final: false\n");
-  const fs::path cfg = o.config_file;
   EXPECT_EQ(j["refinement"]["windows"].get<double>(), 4.0);  // frames 2, 4, 6, 8
   EXPECT_FALSE(j["refinement"].contains("final_ms"));
-  auto expect_error = [&](const std::string& yaml, const std::string& key) {
-    std::ofstream(cfg) << yaml;
-    try {
-      run_stereo(o);
-      FAIL() << "expected ConfigError for " << key;
-    } catch (const ConfigError& e) {
-      EXPECT_NE(std::string(e.what()).find(key), std::string::npos) << e.what();
-    }
+  expect_config_error(o, "refine:\n  window: 1\n", "window");
+  expect_config_error(o, "refine:\n  mlslam:\n    max_round: 3\n", "max_round");
+}
+
+// refine.final_start: the final pass starts from the online windows' trajectory (the default) or from the
+// filter's; without windows both are the filter's start, so the refined outputs are identical.
+TEST_F(StereoRefine, TheFinalPassStartsFromTheWindowsOrTheFilter) {
+  auto refined_of = [&](const std::string& name, const std::string& yaml) {
+    RunOptions o = options(name);
+    o.last_frame = 12;
+    const nlohmann::json j = run_with_config(o, name, yaml);
+    EXPECT_TRUE(j["refinement"].contains("final_ms")) << name;
+    EXPECT_LT(j["refined"]["ate"]["se3_rmse_m"].get<double>(),
+              1.5 * j["vo"]["ate"]["se3_rmse_m"].get<double>() + 0.01)
+        << name;
+    std::ifstream in(fs::path(o.out_dir) / "trajectory_refined.txt");
+    return std::string(std::istreambuf_iterator<char>(in), {});
   };
-  expect_error("refine:\n  window: 1\n", "window");
-  expect_error("refine:\n  mlslam:\n    max_round: 3\n", "max_round");
+  const std::string from_windows = refined_of("start_windows", "refine:\n  window: 6\n  every: 3\n");
+  const std::string from_filter =
+      refined_of("start_filter", "refine:\n  window: 6\n  every: 3\n  final_start: filter\n");
+  EXPECT_NE(from_windows, from_filter);  // the windows moved the start, so the pass ends elsewhere
+  const std::string no_window_default = refined_of("no_window_windows", "refine:\n  window: 0\n");
+  const std::string no_window_filter =
+      refined_of("no_window_filter", "refine:\n  window: 0\n  final_start: filter\n");
+  EXPECT_EQ(no_window_default, no_window_filter);
+  RunOptions o = options("bad_start");
+  o.last_frame = 4;
+  o.config_file = (root_ / "bad_start.yaml").string();
+  expect_config_error(o, "refine:\n  final_start: vo\n", "final_start");
 }
 
 TEST_F(StereoRefine, IsRefusedWithoutAFilter) {

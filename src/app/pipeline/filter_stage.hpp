@@ -81,5 +81,9 @@ class FilterStage {
 
 /// Labels (birth step, index) packed into one integer for the PCD map: birth step << 12 | index.
 std::uint64_t pack_label(const backend::Label& label);
+/// The birth step of a label packed by pack_label.
+inline std::size_t label_birth_step(std::uint64_t packed) {
+  return static_cast<std::size_t>(packed >> 12);
+}
 
 }  // namespace glmbslam::app

@@ -1,7 +1,10 @@
 #include "app/pipeline/loop_closing.hpp"
 
+#include <utility>
+
 #include <spdlog/spdlog.h>
 
+#include "app/pipeline/landmark_frames.hpp"
 #include "core/stopwatch.hpp"
 
 namespace glmbslam::app {
@@ -29,11 +32,9 @@ int LoopClosing::apply(PoseList& poses, std::vector<io::MapPoint>& map,
     used = r.loops_used;
     stats["loops_rejected"] = r.loops_rejected;
     // each landmark moves with the correction of the frame that first mapped it (its label's birth step)
-    for (auto& p : map) {
-      const std::size_t birth = static_cast<std::size_t>(p.label >> 12);
-      if (birth < poses.size()) p.position = corrected[birth] * (poses[birth].inverse() * p.position);
-    }
-    poses.assign(corrected.begin(), corrected.end());
+    PoseList bent(corrected.begin(), corrected.end());
+    move_with_birth_frames(map, poses, bent);
+    poses = std::move(bent);
     spdlog::info("refinement: {} loop constraints from {} keyframes, {} kept by the pose graph", loops.size(),
                  detector_.keyframes(), used);
   }

@@ -1,9 +1,10 @@
 #pragma once
 // Loop closing of the stereo refinement (refine.loop_closure, `glmbslam run --refine ml`): keyframes
 // collected while the run goes (loop_detector.hpp), then, before the final RFS-ML pass, revisits detected
-// along the filter's trajectory, the trajectory bent by the pose graph (backend/mlslam/loop_pose_graph.hpp)
-// and each landmark moved with the correction of the frame that first mapped it, so that the final pass
-// starts with the two visits of a place close enough for its E-step to associate them.
+// along the final pass's starting trajectory (the windows' or the filter's, refine.final_start), the
+// trajectory bent by the pose graph (backend/mlslam/loop_pose_graph.hpp) and each landmark moved with the
+// correction of the frame that first mapped it, so that the final pass starts with the two visits of a place
+// close enough for its E-step to associate them.
 #include <cstddef>
 #include <map>
 #include <string>

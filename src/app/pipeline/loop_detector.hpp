@@ -3,11 +3,11 @@
 // measurement with a landmark mapped long ago once its pose has drifted further than the gate, so nothing
 // ever pulls a revisit back. Every few frames a keyframe keeps its stereo points (left-camera frame, near
 // ones only) and their ORB descriptors. At the end, each keyframe is compared with the earlier keyframes near
-// its position on the filter's trajectory (within a radius that grows with the path travelled between them,
-// as drift does, and facing the same way): descriptors matched by Hamming distance with a ratio test, a
-// relative pose by RANSAC over 3-point Umeyama fits scored by reprojection in the earlier stereo pair, then
-// Gauss–Newton on the inliers' stereo reprojection error. Accepted revisits become loop constraints of the
-// pose graph (backend/mlslam/loop_pose_graph.hpp).
+// its position on the trajectory it is given (the final pass's start, refine.final_start) (within a radius
+// that grows with the path travelled between them, as drift does, and facing the same way): descriptors
+// matched by Hamming distance with a ratio test, a relative pose by RANSAC over 3-point Umeyama fits scored
+// by reprojection in the earlier stereo pair, then Gauss–Newton on the inliers' stereo reprojection error.
+// Accepted revisits become loop constraints of the pose graph (backend/mlslam/loop_pose_graph.hpp).
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -28,7 +28,7 @@ namespace glmbslam::app {
 struct LoopDetectorOptions {
   std::size_t keyframe_every = 5;     ///< a keyframe every this many frames
   std::size_t min_gap_frames = 100;   ///< a revisit is at least this many frames later
-  double search_radius_m = 10.0;      ///< candidates within this distance on the filter's trajectory …
+  double search_radius_m = 10.0;      ///< candidates within this distance on the trajectory …
   double search_radius_per_m = 0.02;  ///< … plus this fraction of the path travelled in between (drift)
   double max_search_radius_m = 50.0;  ///< cap of the radius
   double max_view_angle_deg = 45.0;   ///< optical axes at most this far apart

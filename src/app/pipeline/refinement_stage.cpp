@@ -6,6 +6,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include "app/pipeline/landmark_frames.hpp"
 #include "core/stopwatch.hpp"
 
 namespace glmbslam::app {
@@ -111,6 +112,11 @@ void RefinementStage::on_finish(RunRecord& record) {
   const std::clock_t cpu_start = std::clock();  // the process's CPU time: the final pass on a loaded machine
   PoseList start = record.slam_poses;
   std::vector<io::MapPoint> start_map = record.map;
+  if (settings_.final_start == "windows" && windows_ > 0) {
+    // from the windows' trajectory, each landmark moved with the refinement of the frame that mapped it
+    move_with_birth_frames(start_map, start, refined_);
+    start = refined_;
+  }
   if (loop_closing_) loop_closing_->apply(start, start_map, controls_, stats);
   backend::StereoMlSlam::PoseList poses(start.begin(), start.end());
   backend::StereoMlSlam::LandmarkList map;

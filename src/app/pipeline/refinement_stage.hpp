@@ -8,7 +8,9 @@
 //           (older poses fixed); the landmarks start from the filter's current map, moved into the refined
 //           frame by the correction at the window's first pose; frames not yet refined follow the filter's
 //           motion from the last refined pose.
-//   final:  one solve over the whole run from the filter's final trajectory and map (`refine.final`). With
+//   final:  one solve over the whole run (`refine.final`) from the windows' trajectory, each landmark of the
+//           filter's final map moved with the refinement of the frame that mapped it
+//           (`refine.final_start: windows`), or from the filter's final trajectory and map (`filter`). With
 //           measurement.pixel_sigma auto its σ is the median of the σ the filter used frame by frame (the
 //           frames whose σ was an estimate, not the initial value before enough residuals): the
 //           last frame's σ describes only the last 100 moving frames (on rendered KITTI 08, 1.28 px after a
