@@ -8,8 +8,8 @@
 namespace glmbslam::app {
 namespace {
 
-io::MapPoint landmark_born_at(std::uint64_t birth, std::uint64_t index, const Eigen::Vector3d& p) {
-  return io::MapPoint{p, (birth << 12) | index, 1.0};
+io::MapPoint landmark_born_at(std::int32_t birth, std::int32_t index, const Eigen::Vector3d& p) {
+  return io::MapPoint{p, pack_label(backend::Label{birth, index}), 1.0};
 }
 
 TEST(LandmarkFrames, EachLandmarkFollowsTheCorrectionOfItsBirthFrame) {
@@ -28,7 +28,7 @@ TEST(LandmarkFrames, EachLandmarkFollowsTheCorrectionOfItsBirthFrame) {
   // 5 m along frame 1's optical axis, which now points along +x: (2 + 5, 0, 1)
   EXPECT_TRUE(map[1].position.isApprox(Eigen::Vector3d(7.0, 0.0, 1.0), 1e-12)) << map[1].position.transpose();
   EXPECT_TRUE(map[2].position.isApprox(Eigen::Vector3d(4.0, 5.0, 6.0), 1e-12)) << map[2].position.transpose();
-  EXPECT_EQ(map[1].label, (std::uint64_t{1} << 12) | 7);  // labels and order kept
+  EXPECT_EQ(map[1].label, pack_label(backend::Label{1, 7}));  // labels and order kept
   EXPECT_EQ(label_birth_step(map[1].label), 1u);
 }
 

@@ -3,8 +3,8 @@
 // measurement with a landmark mapped long ago once its pose has drifted further than the gate, so nothing
 // ever pulls a revisit back. Every few frames a keyframe keeps its stereo points (left-camera frame, near
 // ones only) and their ORB descriptors. At the end, each keyframe is compared with the earlier keyframes near
-// its position on the trajectory it is given (the final pass's start, refine.final_start) (within a radius
-// that grows with the path travelled between them, as drift does, and facing the same way): descriptors
+// its position on the trajectory it is given, the final pass's start (refine.final_start), within a radius
+// that grows with the path travelled between them, as drift does, and facing the same way: descriptors
 // matched by Hamming distance with a ratio test, a relative pose by RANSAC over 3-point Umeyama fits scored
 // by reprojection in the earlier stereo pair, then Gauss–Newton on the inliers' stereo reprojection error.
 // Accepted revisits become loop constraints of the pose graph (backend/mlslam/loop_pose_graph.hpp).
