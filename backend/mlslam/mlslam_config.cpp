@@ -25,6 +25,7 @@ void load_mlslam_config(ConfigNode node, MlSlamConfig& c) {
   node.read_in_range("death_ratio", c.death_ratio, 0.0, 1.0);
   node.read_in_range("merge_distance_m", c.merge_distance_m, -1.0, 1e6);
   node.read_in_range("incremental_steps", c.incremental_steps, 0, 1000000);
+  node.read_in_range("initial_pose_search", c.initial_pose_search, 0, 1001);
   node.finish();
   validate_mlslam_config(c);
 }
@@ -46,6 +47,8 @@ void validate_mlslam_config(const MlSlamConfig& c) {
     throw ConfigError("mlslam.max_rounds, solver_iterations and max_assignments must be at least 1");
   }
   if (c.gate <= 0.0) throw ConfigError("mlslam.gate must be positive");
+  if (c.initial_pose_search < 0 || c.initial_pose_search > 1001)
+    throw ConfigError("mlslam.initial_pose_search must be 0..1001");
 }
 
 }  // namespace glmbslam::backend

@@ -52,6 +52,12 @@ struct MlSlamConfig {
   /// Standalone: solve on steps 0..k every this many steps, each new stretch dead-reckoned from the last
   /// refined pose (0 = one batch from the odometry, which can stay stuck where the drift exceeds the gate).
   int incremental_steps = 5;
+  /// Standalone: each new pose starts at the best of n points per dimension of its motion noise's ±3σ box
+  /// (x = f(x_{i−1}, u) ⊕ L t, L Lᵀ = P̄, t on the grid), scored by log g + log p(Z_i | x, M) with the map so
+  /// far (0 = dead reckoning). For odometry much noisier than the sensor, where a dead-reckoned pose puts
+  /// the known landmarks outside the gate and EM never sees them (paper 004's 1D problem: 10 cm odometry
+  /// against 1 cm measurements). n^d evaluations per pose, d the pose dimension.
+  int initial_pose_search = 0;
 };
 
 void load_mlslam_config(ConfigNode node, MlSlamConfig& config);

@@ -24,11 +24,13 @@
 #include <cmath>
 #include <memory>
 #include <string>
+#include <type_traits>
 #include <unordered_map>
 #include <utility>
 #include <vector>
 
 #include <ceres/ceres.h>
+#include <Eigen/Cholesky>
 #include <Eigen/Core>
 #include <Eigen/StdVector>
 
@@ -133,7 +135,8 @@ class RfsMlSlam {
     MlSlamReport total;
     Stopwatch watch;
     for (std::size_t end = std::min(K, chunk + 1);; end = std::min(K, end + chunk)) {
-      while (poses.size() < end) poses.push_back(motion_.predict(poses.back(), controls[poses.size()]));
+      while (poses.size() < end)
+        poses.push_back(initial_pose(poses.back(), controls[poses.size()], scans[poses.size()], map));
       const ControlList u(controls.begin(), controls.begin() + static_cast<std::ptrdiff_t>(end));
       const std::vector<MeasurementSet> z(scans.begin(), scans.begin() + static_cast<std::ptrdiff_t>(end));
       const MlSlamReport r = solve(poses, u, z, map);
@@ -150,6 +153,40 @@ class RfsMlSlam {
     }
     total.ms = watch.elapsed_ms();
     return total;
+  }
+
+  /// Where solve_from_odometry starts a new pose: the dead-reckoned f(x_prev, u), or with
+  /// MlSlamConfig::initial_pose_search = n the best point of an n^d grid over ±3σ of the motion noise by
+  /// log g(x | x_prev, u) + log p(Z | x, M).
+  Pose initial_pose(const Pose& prev, const Control& u, const MeasurementSet& Z,
+                    const LandmarkList& map) const {
+    const Pose mean = motion_.predict(prev, u);
+    const int n = config_.initial_pose_search;
+    if (n < 2 || map.empty() || Z.empty()) return mean;
+    using Tangent = typename Motion::Tangent;
+    constexpr int d = Tangent::RowsAtCompileTime;
+    const auto P = motion_.process_noise(prev, u);
+    const typename Motion::Covariance L = P.llt().matrixL();
+    const Grid grid = grid_of(map);
+    ScanLikelihoodOptions o = scan_options();
+    o.marginals = false;
+    auto score = [&](const Pose& x, const Tangent& t) {
+      return -0.5 * t.squaredNorm() +
+             evaluate_scan(model_, p_D_, x, gather(map, candidates_of(x, map, grid)), Z, o).log_likelihood;
+    };
+    Pose best = mean;
+    double best_score = score(mean, Tangent::Zero());
+    long long total = 1;
+    for (int i = 0; i < d; ++i) total *= n;
+    for (long long idx = 0; idx < total; ++idx) {
+      Tangent t;
+      long long rest = idx;
+      for (int i = 0; i < d; ++i, rest /= n) t(i) = -3.0 + 6.0 * static_cast<double>(rest % n) / (n - 1);
+      const Pose x = Motion::retract(mean, L * t);
+      const double l = score(x, t);
+      if (l > best_score) best_score = l, best = x;
+    }
+    return best;
   }
 
   /// l of Eq. 8 (RFS) at the given estimate; for nearest_neighbour, −½ of the vector cost of Eq. 4.
@@ -521,9 +558,11 @@ class RfsMlSlam {
       for (std::size_t j = 0; j < scans[i].size(); ++j) {
         if (1.0 - explained[j] < config_.birth_responsibility) continue;
         const Landmark m = inverse(s.poses[i], scans[i][j]);
-        const Eigen::Vector2d q = Model::landmark_position(m).template head<2>();
+        const auto q = Model::landmark_position(m);
         const long long cx = static_cast<long long>(std::floor(q(0) / cell));
-        const long long cy = static_cast<long long>(std::floor(q(1) / cell));
+        long long cy = 0;  // the cells are squares in the plane (intervals on the line)
+        if constexpr (std::decay_t<decltype(q)>::RowsAtCompileTime >= 2)
+          cy = static_cast<long long>(std::floor(q(1) / cell));
         int best = -1;
         double best_d = config_.birth_radius_m;
         for (long long dx = -1; dx <= 1; ++dx)

@@ -1,5 +1,5 @@
-// `glmbslam sim`: Monte Carlo runs of the papers' 2D simulations (paper2019, phdslam3) with
-// δ-GLMB-SLAM 2.0/1.0 (optimal/prior proposal) or with the multi-hypothesis proposal, RB-PHD-SLAM 1.0,
+// `glmbslam sim`: Monte Carlo runs of the papers' simulations (paper2019, phdslam3, paper004, paper004_1d)
+// with δ-GLMB-SLAM 2.0/1.0 (optimal/prior proposal) or with the multi-hypothesis proposal, RB-PHD-SLAM 1.0,
 // PHD-SLAM 3.0 or dead reckoning; writes metrics.json and plots (app/sim_runner.hpp).
 #include <iostream>
 
@@ -13,7 +13,8 @@ void register_sim_command(CLI::App& app) {
   auto* cmd =
       app.add_subcommand("sim", "Monte Carlo runs of the 2D simulations (paper 000, paper 003 benchmark)");
   cmd->add_option("--scenario", options->scenario,
-                  "paper2019, phdslam3 or paper004 (paper 004's small 2D problem)")
+                  "paper2019, phdslam3, paper004 (paper 004's small 2D problem) or paper004_1d (its 1D "
+                  "problem; --algorithm mlslam only)")
       ->capture_default_str();
   cmd->add_option("--refine", options->refine, "ml: refine the filter's estimate by RFS maximum likelihood");
   cmd->add_option(
@@ -33,7 +34,9 @@ void register_sim_command(CLI::App& app) {
          "index of the first run (runs first-run .. first-run + runs - 1; phdslam3: the run index is "
          "the data realisation and the filter seed, so tuning runs can be kept apart from reported ones)")
       ->capture_default_str();
-  cmd->add_option("--clutter", options->clutter, "clutter rate λ_c per scan (paper2019; default 5)");
+  cmd->add_option("--clutter", options->clutter,
+                  "clutter rate λ_c per scan (paper2019: default 5; paper004 / paper004_1d: default the "
+                  "paper's clutter intensity over the sensor's field of view)");
   cmd->add_option("--seed", options->seed,
                   "filter seed base, run r uses seed·1000003 + r (default: the config's rbpf.seed, else 0)");
   cmd->add_option("--config", options->config_file,

@@ -12,6 +12,8 @@
 #include <spdlog/spdlog.h>
 
 #include "app/baseline_filters.hpp"
+#include "app/sample_summary_json.hpp"
+#include "app/sim_line_runner.hpp"
 #include "app/sim_report.hpp"
 #include "backend/models/range_bearing_model.hpp"
 #include "backend/models/steering_motion.hpp"
@@ -306,6 +308,7 @@ void set_phdslam3_defaults(backend::RbpfConfig& r) {
 
 Filters load_filters(const SimOptions& o) {
   Filters f;
+  if (o.scenario == "paper004_1d") set_paper004_line_defaults(f.ml);
   if (o.scenario == "phdslam3") {
     set_phdslam3_defaults(f.rbpf);
     set_phdslam3_baseline_defaults(f.baselines);
@@ -333,11 +336,6 @@ double mean_of(const std::vector<double>& v) {
   double s = 0.0;
   for (double x : v) s += x;
   return v.empty() ? 0.0 : s / static_cast<double>(v.size());
-}
-
-json summary_json(const std::vector<double>& v) {
-  const SampleSummary s = summarize(v);
-  return json{{"mean", s.mean}, {"std", s.stddev}, {"median", s.median}, {"p95", s.p95}};
 }
 
 void write_plots(const std::filesystem::path& dir, const sim::Scenario2D& s0, const RunRecord& r0,
@@ -396,8 +394,10 @@ json run_simulation(const SimOptions& options) {
     o.particles =
         phd ? (o.algorithm == "phd3" ? filters.phd3 : filters.phd).particles : filters.rbpf.particles;
   if (!o.seed) o.seed = phd ? (o.algorithm == "phd3" ? filters.phd3 : filters.phd).seed : filters.rbpf.seed;
-  if (o.scenario != "paper2019" && o.scenario != "phdslam3" && o.scenario != "paper004") {
-    throw ConfigError("--scenario must be paper2019, phdslam3 or paper004, got '" + o.scenario + "'");
+  if (o.scenario != "paper2019" && o.scenario != "phdslam3" && o.scenario != "paper004" &&
+      o.scenario != "paper004_1d") {
+    throw ConfigError("--scenario must be paper2019, phdslam3, paper004 or paper004_1d, got '" + o.scenario +
+                      "'");
   }
   if (!o.refine.empty() && o.refine != "ml") throw ConfigError("--refine must be ml, got '" + o.refine + "'");
   if (o.algorithm != "glmb2" && o.algorithm != "glmb1" && o.algorithm != "phd1" && o.algorithm != "glmb_mh" &&
@@ -413,6 +413,13 @@ json run_simulation(const SimOptions& options) {
   if (o.first_run < 0) throw ConfigError("--first-run must not be negative");
   if (o.out_dir.empty()) throw ConfigError("--out is required");
   ensure_writable_directory(o.out_dir);
+  if (o.scenario == "paper004_1d") {
+    // paper 004's 1D problem has no filter: RFS-ML (or its vector baseline) from the odometry only
+    if (o.algorithm != "mlslam")
+      throw ConfigError("--scenario paper004_1d runs --algorithm mlslam only, got '" + o.algorithm + "'");
+    if (!o.refine.empty()) throw ConfigError("--scenario paper004_1d has no filter to --refine");
+    return run_line_simulation(o, filters.ml);
+  }
 
   // scenarios
   sim::PhdSlam3Environment env;
@@ -623,6 +630,7 @@ json run_simulation(const SimOptions& options) {
 }
 
 std::string summarize_simulation(const json& m) {
+  if (m.value("scenario", "") == "paper004_1d") return summarize_line_simulation(m);
   if (m["runs"].get<int>() == 0) return "sim interrupted before any run finished (metrics.json says so)";
   std::ostringstream s;
   s.setf(std::ios::fixed);

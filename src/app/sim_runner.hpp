@@ -7,7 +7,8 @@
 // Algorithms: glmb2 = δ-GLMB-SLAM 2.0 (GlmbSlam, proposal "optimal"), glmb1 = δ-GLMB-SLAM 1.0 (proposal
 // "prior"), phd1 = RB-PHD-SLAM 1.0 (PhdSlam, empty-map weight unless the config says otherwise). Scenarios:
 // paper2019 (steering model, 360° 3 m sensor, λ_c from --clutter, default 5; one data realisation, the runs
-// differ in the filter's randomness) and phdslam3 (Environment_SLAM.mat, regenerated per run).
+// differ in the filter's randomness), phdslam3 (Environment_SLAM.mat, regenerated per run), paper004 (paper
+// 004's 2D problem) and paper004_1d (its 1D problem, RFS-ML only: app/sim_line_runner.hpp).
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -17,14 +18,15 @@
 namespace glmbslam::app {
 
 struct SimOptions {
-  std::string scenario = "paper2019";  ///< paper2019 | phdslam3 | paper004
-  std::string algorithm = "glmb2";     ///< glmb2 | glmb1 | glmb_mh | phd1 | phd3 | dr | mlslam
-  std::string refine;                  ///< "" or "ml": RFS-ML refinement of the filter's estimate
+  std::string scenario =
+      "paper2019";  ///< paper2019 | phdslam3 | paper004 | paper004_1d (app/sim_line_runner.hpp)
+  std::string algorithm = "glmb2";  ///< glmb2 | glmb1 | glmb_mh | phd1 | phd3 | dr | mlslam
+  std::string refine;               ///< "" or "ml": RFS-ML refinement of the filter's estimate
   /// Particles per filter; unset = the config file's rbpf.particles (phd.particles for phd1/phd3), or 10.
   std::optional<int> particles;
   int runs = 1;
   int first_run = 0;      ///< runs first_run .. first_run + runs − 1 (run index = data realisation, seed)
-  double clutter = -1.0;  ///< λ_c (paper2019 only); < 0 = the scenario default (5)
+  double clutter = -1.0;  ///< λ_c per scan (paper2019, paper004, paper004_1d); < 0 = the scenario default
   /// Filter seed base (run r uses seed·1000003 + r); unset = the config file's rbpf.seed, or 0.
   std::optional<std::uint64_t> seed;
   std::string config_file;    ///< optional YAML: children "rbpf" (load_rbpf_config), "phd" (load_phd_config),

@@ -6,6 +6,7 @@
 #include <limits>
 #include <random>
 
+#include "backend/mlslam/line_ml_slam.hpp"
 #include "backend/mlslam/move_gains.hpp"
 #include "backend/mlslam/scan_likelihood.hpp"
 #include "backend/mlslam/scan_move_gain.hpp"
@@ -123,6 +124,28 @@ Eigen::MatrixXd expect_gated_scan_equals_brute_force(const Model& model, const D
   for (const auto& b : s.betas) got(b.landmark, b.measurement) += b.beta;
   EXPECT_LT((got - beta).cwiseAbs().maxCoeff(), 1e-9);
   return got;
+}
+
+TEST(MlSlamLikelihood, OneDimensionalScanEqualsBruteForceEnumerationOfEq7) {
+  // paper 004's 1D sensor: two close landmarks (ambiguous), one at each smooth border of the interval
+  LineSensorConfig c;
+  c.variance = 0.04;
+  c.p_detect_inside = 0.8;
+  c.clutter_rate = 1.5;
+  const LineMeasurementModel model(c);
+  const SmoothDetection1D detection(model, 0.1);
+  const LinePose x = LinePose::Constant(0.3);
+  LineMlSlam::LandmarkList M;
+  for (double m : {3.0, 3.2, 0.85, 6.25}) M.push_back(LinePose::Constant(m));
+  LineMlSlam::MeasurementSet Z;
+  for (double z : {2.75, 2.95, 0.5, 5.8, 1.7}) Z.push_back(LinePose::Constant(z));
+  const Eigen::MatrixXd got = expect_gated_scan_equals_brute_force(model, detection, x, M, Z, 1e9);
+  EXPECT_GT((got.array() > 0.05 && got.array() < 0.95).count(), 2);  // the close pair shares its measurements
+  // p_D is half its inside value at each end of the interval
+  EXPECT_NEAR(detection(model, x, LinePose::Constant(0.3 + c.min_range), LinePose::Constant(c.min_range)),
+              0.4, 1e-6);
+  EXPECT_NEAR(detection(model, x, LinePose::Constant(0.3 + c.max_range), LinePose::Constant(c.max_range)),
+              0.4, 1e-6);
 }
 
 /// evaluate_scan looks at a landmark's measurements only within √(gate R_00) of ẑ_0: with a finite gate it
