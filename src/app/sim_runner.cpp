@@ -416,7 +416,10 @@ json run_simulation(const SimOptions& options) {
   if (o.scenario == "paper004_1d") {
     // paper 004's 1D problem has no filter: RFS-ML (or its vector baseline) from the odometry only
     if (o.algorithm != "mlslam")
-      throw ConfigError("--scenario paper004_1d runs --algorithm mlslam only, got '" + o.algorithm + "'");
+      throw ConfigError(
+          "--scenario paper004_1d needs --algorithm mlslam (RFS-ML from the odometry; the 1D "
+          "problem has no filter), got '" +
+          o.algorithm + "'");
     if (!o.refine.empty()) throw ConfigError("--scenario paper004_1d has no filter to --refine");
     return run_line_simulation(o, filters.ml);
   }

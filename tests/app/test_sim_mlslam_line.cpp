@@ -1,7 +1,7 @@
 // `glmbslam sim --scenario paper004_1d`: paper 004's 1D problem (Sec. VI-A). RFS-ML-SLAM from the odometry
 // reaches the trajectory within centimetres and the five landmarks; with clutter it still does, where the
 // vector ML solution with nearest-neighbour association keeps a landmark per clutter point and loses the
-// trajectory (the paper's claim).
+// trajectory (the paper's claim). The output does not depend on the thread count.
 #include <filesystem>
 #include <fstream>
 
@@ -9,6 +9,7 @@
 
 #include "app/sim_runner.hpp"
 #include "core/error.hpp"
+#include "core/parallel.hpp"
 #include "support/test_data.hpp"
 
 namespace glmbslam::app {
@@ -46,7 +47,14 @@ TEST(SimMlSlamLine, RfsConvergesOnPaper004sOneDimensionalProblem) {
 
 TEST(SimMlSlamLine, WithClutterRfsHoldsWhereTheNearestNeighbourVectorSolutionDiverges) {
   const auto dir = test::fresh_temp_dir("sim_mlslam_line_clutter");
+  const int threads = thread_count();
+  set_thread_count(1);
   const nlohmann::json rfs = run_simulation(paper004_1d(dir / "rfs", "mlslam: {}\n", 2.0));
+  set_thread_count(2);
+  const nlohmann::json rfs2 = run_simulation(paper004_1d(dir / "rfs2", "mlslam: {}\n", 2.0));
+  set_thread_count(threads);
+  EXPECT_EQ(rfs["position_rmse_each_run_m"], rfs2["position_rmse_each_run_m"]);  // the same at any --threads
+  EXPECT_EQ(rfs["ml"]["log_likelihood_each_run"], rfs2["ml"]["log_likelihood_each_run"]);
   const nlohmann::json nn =
       run_simulation(paper004_1d(dir / "nn", "mlslam:\n  association: nearest_neighbour\n", 2.0));
   EXPECT_LT(rfs["position_rmse_m"].get<double>(), 0.1);
