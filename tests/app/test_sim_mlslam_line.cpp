@@ -1,7 +1,8 @@
 // `glmbslam sim --scenario paper004_1d`: paper 004's 1D problem (Sec. VI-A). RFS-ML-SLAM from the odometry
 // reaches the trajectory within centimetres and the five landmarks; with clutter it still does, where the
 // vector ML solution with nearest-neighbour association keeps a landmark per clutter point and loses the
-// trajectory (the paper's claim). The output does not depend on the thread count.
+// trajectory (the paper's claim). The output does not depend on the thread count; the shipped config holds
+// the built-in defaults.
 #include <filesystem>
 #include <fstream>
 
@@ -43,6 +44,12 @@ TEST(SimMlSlamLine, RfsConvergesOnPaper004sOneDimensionalProblem) {
   EXPECT_TRUE(std::filesystem::exists(dir / "position_error.png"));
   EXPECT_TRUE(std::filesystem::exists(dir / "trajectory_map.png"));
   EXPECT_NE(summarize_simulation(m).find("position RMSE"), std::string::npos);
+  // the shipped config/sim_paper004_1d.yaml documents exactly the scenario's built-in defaults
+  SimOptions shipped = paper004_1d(dir / "shipped", "", -1.0);
+  shipped.config_file = std::string(GLMBSLAM_SOURCE_DIR) + "/config/sim_paper004_1d.yaml";
+  const nlohmann::json with_file = run_simulation(shipped);
+  EXPECT_EQ(with_file["position_rmse_each_run_m"], m["position_rmse_each_run_m"]);
+  EXPECT_EQ(with_file["ml"]["log_likelihood_each_run"], m["ml"]["log_likelihood_each_run"]);
 }
 
 TEST(SimMlSlamLine, WithClutterRfsHoldsWhereTheNearestNeighbourVectorSolutionDiverges) {
