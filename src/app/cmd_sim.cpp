@@ -11,7 +11,7 @@ namespace glmbslam::app {
 void register_sim_command(CLI::App& app) {
   auto options = std::make_shared<SimOptions>();
   auto* cmd =
-      app.add_subcommand("sim", "Monte Carlo runs of the 2D simulations (paper 000, paper 003 benchmark)");
+      app.add_subcommand("sim", "Monte Carlo runs of the papers' simulations (papers 000, 003 and 004)");
   cmd->add_option("--scenario", options->scenario,
                   "paper2019, phdslam3, paper004 (paper 004's small 2D problem) or paper004_1d (its 1D "
                   "problem; --algorithm mlslam only)")

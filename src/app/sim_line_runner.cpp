@@ -28,6 +28,8 @@ constexpr double kOspaC = 1.0, kOspaP = 1.0;  // metres on the line; landmarks a
 
 struct LineRun {
   std::vector<double> estimates, map;
+  std::vector<double> abs_error;  ///< |x̂_k − x_k| per step
+  double squared_error = 0.0;     ///< Σ_k (x̂_k − x_k)²
   double rmse = 0.0, dead_reckoning_rmse = 0.0, log_likelihood = 0.0, ms = 0.0, map_ospa = 0.0;
   int rounds = 0, cardinality_error = 0;
 };
@@ -60,15 +62,16 @@ LineRun solve_run(const sim::LineScenario& s, const backend::MlSlamConfig& confi
   const backend::MlSlamReport r =
       slam.solve_from_odometry(backend::LinePose::Constant(s.poses.front()), u, Z, x, m);
   LineRun out;
-  double se = 0.0, se_dr = 0.0, dr = s.poses.front();
+  double se_dr = 0.0, dr = s.poses.front();
   for (std::size_t k = 0; k < s.steps(); ++k) {
     if (k > 0) dr += s.controls[k];
     out.estimates.push_back(x[k](0));
-    se += std::pow(x[k](0) - s.poses[k], 2);
+    out.abs_error.push_back(std::abs(x[k](0) - s.poses[k]));
+    out.squared_error += std::pow(x[k](0) - s.poses[k], 2);
     se_dr += std::pow(dr - s.poses[k], 2);
   }
   const double K = static_cast<double>(s.steps());
-  out.rmse = std::sqrt(se / K);
+  out.rmse = std::sqrt(out.squared_error / K);
   out.dead_reckoning_rmse = std::sqrt(se_dr / K);
   for (const auto& l : m) out.map.push_back(l(0));
   // the landmarks the sensor could see at some step
@@ -150,7 +153,6 @@ json run_line_simulation(const SimOptions& o, const backend::MlSlamConfig& confi
   double se = 0.0, n = 0.0;
   for (std::size_t r = 0; r < R; ++r) {
     if (finished[r] == 0) continue;
-    const sim::LineScenario s = scenario_of(r);
     const LineRun& run = runs[r];
     indices.push_back(o.first_run + static_cast<int>(r));
     rmse.push_back(run.rmse);
@@ -160,11 +162,9 @@ json run_line_simulation(const SimOptions& o, const backend::MlSlamConfig& confi
     ms.push_back(run.ms);
     rounds.push_back(run.rounds);
     ll.push_back(run.log_likelihood);
-    for (std::size_t k = 0; k < s.steps(); ++k) {
-      error_per_step[k] += std::abs(run.estimates[k] - s.poses[k]);
-      se += std::pow(run.estimates[k] - s.poses[k], 2);
-      n += 1.0;
-    }
+    for (std::size_t k = 0; k < run.abs_error.size(); ++k) error_per_step[k] += run.abs_error[k];
+    se += run.squared_error;
+    n += static_cast<double>(run.abs_error.size());
   }
   const double done = static_cast<double>(indices.size());
   for (double& e : error_per_step) e = done > 0.0 ? e / done : 0.0;

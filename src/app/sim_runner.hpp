@@ -18,8 +18,8 @@
 namespace glmbslam::app {
 
 struct SimOptions {
-  std::string scenario =
-      "paper2019";  ///< paper2019 | phdslam3 | paper004 | paper004_1d (app/sim_line_runner.hpp)
+  /// paper2019 | phdslam3 | paper004 | paper004_1d (app/sim_line_runner.hpp)
+  std::string scenario = "paper2019";
   std::string algorithm = "glmb2";  ///< glmb2 | glmb1 | glmb_mh | phd1 | phd3 | dr | mlslam
   std::string refine;               ///< "" or "ml": RFS-ML refinement of the filter's estimate
   /// Particles per filter; unset = the config file's rbpf.particles (phd.particles for phd1/phd3), or 10.
