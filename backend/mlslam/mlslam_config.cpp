@@ -8,6 +8,7 @@ void load_mlslam_config(ConfigNode node, MlSlamConfig& c) {
   node.read_in_range("tolerance", c.tolerance, 0.0, 1e9);
   node.read_in_range("relative_tolerance", c.relative_tolerance, 0.0, 1.0);
   node.read_in_range("solver_iterations", c.solver_iterations, 1, 10000);
+  node.read_in_range("initial_trust_region_radius", c.initial_trust_region_radius, 1e-6, 1e16);
   node.read_choice("motion_noise", c.motion_noise, {"configured", "estimated"});
   node.read_choice("linear_solver", c.linear_solver,
                    {"auto", "sparse_schur", "iterative_schur", "sparse_normal_cholesky"});
@@ -47,6 +48,8 @@ void validate_mlslam_config(const MlSlamConfig& c) {
     throw ConfigError("mlslam.max_rounds, solver_iterations and max_assignments must be at least 1");
   }
   if (c.gate <= 0.0) throw ConfigError("mlslam.gate must be positive");
+  if (!(c.initial_trust_region_radius > 0.0))
+    throw ConfigError("mlslam.initial_trust_region_radius must be positive");
   if (c.initial_pose_search < 0 || c.initial_pose_search > 1001)
     throw ConfigError("mlslam.initial_pose_search must be 0..1001");
 }

@@ -18,6 +18,11 @@ struct MlSlamConfig {
   /// long stereo run the last rounds add a few nats out of thousands and cost as much as the first.
   double relative_tolerance = 0.0;
   int solver_iterations = 10;  ///< Levenberg–Marquardt iterations per M-step
+  /// Levenberg–Marquardt's initial trust region radius of every M-step (Ceres' default 10⁴; its damping is
+  /// 1/radius × diag(JᵀJ)). Each EM round restarts it. The long-wavelength modes of a long trajectory
+  /// (slow bends, a drift that builds up over thousands of poses) have eigenvalues of JᵀJ many orders below
+  /// its diagonal, so a short M-step from 10⁴ barely moves them; from 10⁸ the first step is Gauss–Newton's.
+  double initial_trust_region_radius = 1e4;
   /// The motion noise of the motion factors: "configured" (the motion model's Q) or "estimated" (s·Q with the
   /// scale s of maximum likelihood, re-estimated in every M-step after the trajectory: s = Σ rᵀQ⁻¹r / (d·K),
   /// r the motion residuals, d their dimension). A filter's motion noise is often set wide on purpose (its

@@ -411,6 +411,7 @@ class RfsMlSlam {
       so.preconditioner_type = ceres::SCHUR_JACOBI;
     }
     so.max_num_iterations = config_.solver_iterations;
+    so.initial_trust_region_radius = config_.initial_trust_region_radius;
     so.num_threads = 1;
     so.logging_type = ceres::SILENT;
     ceres::Solver::Summary summary;

@@ -51,6 +51,7 @@ class StereoMStepProblem {
     }
     options_.linear_solver_type = linear_solver_for(config, K);
     options_.max_num_iterations = config.solver_iterations;
+    options_.initial_trust_region_radius = config.initial_trust_region_radius;
     options_.num_threads = 1;
     options_.logging_type = ceres::SILENT;
   }

@@ -24,6 +24,13 @@ backend::MlSlamConfig RefineSettings::default_stereo_mlslam_config() {
   return c;
 }
 
+backend::MlSlamConfig RefineSettings::final_pass_mlslam_config() const {
+  backend::MlSlamConfig c = ml;
+  c.solver_iterations = final_solver_iterations;
+  c.initial_trust_region_radius = final_trust_region_radius;
+  return c;
+}
+
 void load_refine_config(ConfigNode node, RefineSettings& c) {
   node.read("enabled", c.enabled);
   node.read_in_range("window", c.window, 0, 100000);
@@ -32,6 +39,8 @@ void load_refine_config(ConfigNode node, RefineSettings& c) {
   node.read("final", c.final_pass);
   node.read_in_range("window_rounds", c.window_rounds, 1, 1000);
   node.read_choice("final_start", c.final_start, {"windows", "filter"});
+  node.read_in_range("final_solver_iterations", c.final_solver_iterations, 1, 10000);
+  node.read_in_range("final_trust_region_radius", c.final_trust_region_radius, 1e-6, 1e16);
   node.read("loop_closure", c.loop_closure);
   if (node.has("loop")) load_loop_config(node.child("loop"), c.loop);
   if (node.has("mlslam")) backend::load_mlslam_config(node.child("mlslam"), c.ml);

@@ -61,6 +61,8 @@ void expect_same(const StereoConfig& a, const StereoConfig& b, const std::string
   EXPECT_EQ(a.refine.window_rounds, b.refine.window_rounds);
   EXPECT_EQ(a.refine.final_pass, b.refine.final_pass);
   EXPECT_EQ(a.refine.final_start, b.refine.final_start);
+  EXPECT_EQ(a.refine.final_solver_iterations, b.refine.final_solver_iterations);
+  EXPECT_EQ(a.refine.final_trust_region_radius, b.refine.final_trust_region_radius);
   EXPECT_EQ(a.refine.loop_closure, b.refine.loop_closure);
 }
 
@@ -71,6 +73,20 @@ TEST(StereoConfig, ShippedFilesDocumentTheBuiltInDefaults) {
     ASSERT_TRUE(std::filesystem::exists(path)) << path;
     expect_same(parse_stereo_config(YAML::LoadFile(path.string()), path.string()), defaults, name);
   }
+}
+
+TEST(StereoConfig, TheFinalPassTakesItsOwnMStepSettingsAndTheWindowsKeepTheirs) {
+  const StereoConfig c = parse_stereo_config(
+      YAML::Load(
+          "refine:\n  final_solver_iterations: 2\n  final_trust_region_radius: 1.0e+6\n"
+          "  mlslam:\n    solver_iterations: 4\n    initial_trust_region_radius: 1.0e+3\n    gate: 9.0\n"),
+      "test.yaml");
+  EXPECT_EQ(c.refine.ml.solver_iterations, 4);
+  EXPECT_EQ(c.refine.ml.initial_trust_region_radius, 1e3);
+  const backend::MlSlamConfig final_pass = c.refine.final_pass_mlslam_config();
+  EXPECT_EQ(final_pass.solver_iterations, 2);
+  EXPECT_EQ(final_pass.initial_trust_region_radius, 1e6);
+  EXPECT_EQ(final_pass.gate, 9.0);  // the rest is the windows'
 }
 
 TEST(StereoConfig, UnknownKeysWrongTypesAndBadRangesAreErrorsNamingTheKey) {
@@ -88,6 +104,9 @@ TEST(StereoConfig, UnknownKeysWrongTypesAndBadRangesAreErrorsNamingTheKey) {
   expect_error("measurement:\n  min_depth: 30\n  max_depth: 20\n", "max_depth");
   expect_error("pipeline:\n  algorithm: glmb3\n", "algorithm");
   expect_error("pipline:\n  algorithm: glmb1\n", "pipline");
+  expect_error("refine:\n  final_trust_region_radius: -1\n", "final_trust_region_radius");
+  expect_error("refine:\n  final_solver_iterations: 0\n", "final_solver_iterations");
+  expect_error("refine:\n  mlslam:\n    initial_trust_region_radius: 0\n", "initial_trust_region_radius");
   expect_error("frontend:\n  orb:\n    featurs: 10\n", "featurs");
   expect_error("measurement:\n  pixel_sigma: automatic\n", "pixel_sigma");
   expect_error("measurement:\n  pixel_sigma: 0.5px\n", "pixel_sigma");

@@ -1,8 +1,10 @@
 // The stereo final-pass solver (stereo_batch_ml_slam.hpp): its merged pair factor against the per-measurement
 // factors it replaces, its frustum candidate search against maybe_in_view, and its solve (one Ceres problem
-// re-weighted every EM round) against RfsMlSlam's (a problem rebuilt every round) on a small stereo problem.
+// re-weighted every EM round) against RfsMlSlam's (a problem rebuilt every round) on a small stereo problem,
+// and what its M-step's initial trust region radius does on a long drive.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <memory>
 
 #include "backend/mlslam/stereo_batch_ml_slam.hpp"
@@ -152,6 +154,62 @@ TEST(MlSlamStereoBatch, ReusedProblemReachesTheRebuiltProblemsEstimate) {
     EXPECT_NEAR(reused.log_likelihood(x2, p.controls, p.scans, m2), r2.final_log_likelihood,
                 1e-9 * std::abs(r2.final_log_likelihood));
   }
+}
+
+/// Max position error after one M-step of one Levenberg–Marquardt iteration from `radius`, on a 400-frame
+/// straight drive (1 m per frame, exact controls, noise-free measurements of landmarks on both sides) started
+/// from the truth bent by a yaw about the start that grows along the path to 0.002 rad (0.8 m at the end),
+/// the landmarks at the truth.
+double error_after_one_step_on_a_bent_drive(double radius) {
+  const int K = 400;
+  StereoMeasurementConfig mc;
+  mc.pixel_sigma = 1.0;
+  mc.min_depth = 1.0;
+  mc.max_depth = 40.0;
+  const Se3Motion motion{Se3MotionConfig{}};
+  const StereoMeasurementModel model(test::kitti_calibration(), mc);
+  Matrix6d Q = Matrix6d::Zero();
+  Q.diagonal() << 0.02, 0.02, 0.04, 0.003, 0.003, 0.003;
+  Q = Q.cwiseProduct(Q);
+  StereoMlSlam::PoseList truth, start;
+  StereoMlSlam::ControlList controls;
+  for (int k = 0; k < K; ++k) {
+    Pose3 x = Pose3::Identity();
+    x.translation() = Eigen::Vector3d(0.0, 0.0, k);
+    truth.push_back(x);
+    RelativePoseControl u;
+    u.covariance = Q;
+    if (k > 0) u.delta = truth[static_cast<std::size_t>(k) - 1].inverse() * x;
+    controls.push_back(u);
+    const double yaw = 0.002 * k / K;  // about the start: a slow bend of the whole drive
+    start.push_back(Pose3(Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitY())) * x);
+  }
+  StereoMlSlam::LandmarkList map;
+  for (int z = 0; z < K + 40; z += 2)
+    for (double side : {-6.0, -3.0, 3.0, 6.0}) map.emplace_back(side, z % 4 == 0 ? -1.0 : 1.0, z + 1.0);
+  MlSlamConfig c = test::stereo_config();
+  c.linear_solver = "sparse_normal_cholesky";
+  c.solver_iterations = 1;
+  c.initial_trust_region_radius = radius;
+  StereoMStepProblem problem(motion, model, controls, map.size(), c);
+  for (std::size_t i = 0; i < truth.size(); ++i)
+    for (std::size_t j = 0; j < map.size(); ++j)
+      if (model.in_field_of_view(truth[i], map[j]))
+        problem.add(i, static_cast<int>(j), model.predict(truth[i], map[j]), 1.0);
+  problem.solve(start, map);
+  return max_position_error(start, truth);
+}
+
+/// Levenberg–Marquardt's damping, 1/radius × diag(JᵀJ), holds back the slow modes of a long trajectory (a
+/// bend that builds up over hundreds of poses has eigenvalues of JᵀJ far below its diagonal): one iteration
+/// from Ceres' default radius 10⁴ leaves much of the bend, one from 10⁸ (Gauss–Newton's step) removes it.
+/// The reason for the final pass's refine.final_trust_region_radius.
+TEST(MlSlamStereoBatch, AnUndampedStepStraightensTheSlowBendOfALongDrive) {
+  const double bend = 399.0 * std::sin(0.002 * 399.0 / 400.0);  // the start's largest error
+  const double damped = error_after_one_step_on_a_bent_drive(1e4);
+  const double undamped = error_after_one_step_on_a_bent_drive(1e8);
+  EXPECT_GT(damped, 0.25 * bend);   // 0.32 m of 0.80 m left
+  EXPECT_LT(undamped, 0.1 * bend);  // 0.034 m left (the rotation's nonlinearity)
 }
 
 TEST(MlSlamStereoBatch, SameInputSameOutputAtAnyThreadCount) {

@@ -42,11 +42,11 @@ RefinementStage::RefinementStage(const StereoConfig& config, const StereoCalibra
       model_(calibration, config.measurement),
       automatic_pixel_sigma_(config.pixel_sigma.automatic),
       window_solver_(motion_, model_, with_rounds(config.refine.ml, config.refine.window_rounds)),
-      final_solver_(motion_, model_, config.refine.ml) {
+      final_solver_(motion_, model_, config.refine.final_pass_mlslam_config()) {
   if (config.refine.loop_closure && config.refine.final_pass)
     loop_closing_.emplace(config.refine.loop, calibration);
   if (backend::StereoBatchMlSlam::supports(config.refine.ml))
-    batch_solver_.emplace(motion_, model_, config.refine.ml);
+    batch_solver_.emplace(motion_, model_, config.refine.final_pass_mlslam_config());
 }
 
 void RefinementStage::on_frame(const FrameOutcome& frame) {
