@@ -14,6 +14,24 @@
 
 namespace glmbslam::backend::test {
 
+/// The stereo sensor of the test problems: 1 px noise, depths 1–40 m, p_D 0.8, 2 clutter points per frame.
+inline StereoMeasurementConfig stereo_problem_measurement_config() {
+  StereoMeasurementConfig mc;
+  mc.pixel_sigma = 1.0;
+  mc.min_depth = 1.0;
+  mc.max_depth = 40.0;
+  mc.p_detect_inside = 0.8;
+  mc.clutter_rate = 2.0;
+  return mc;
+}
+
+/// The VO control covariance Q of the test problems (σ 2, 2, 4 cm and 0.003 rad per frame).
+inline Matrix6d stereo_problem_vo_covariance() {
+  Matrix6d Q = Matrix6d::Zero();
+  Q.diagonal() << 0.02, 0.02, 0.04, 0.003, 0.003, 0.003;
+  return Q.cwiseProduct(Q);
+}
+
 /// A small stereo problem with known geometry: the camera moves ~1 m per frame along z with a slow turn, past
 /// landmarks spread in a box ahead; VO controls with noise drawn from their Q; measurement sets with misses
 /// and Poisson clutter.
@@ -27,12 +45,7 @@ struct StereoProblem {
 };
 
 inline StereoProblem make_stereo_problem(int K, std::uint64_t seed) {
-  StereoMeasurementConfig mc;
-  mc.pixel_sigma = 1.0;
-  mc.min_depth = 1.0;
-  mc.max_depth = 40.0;
-  mc.p_detect_inside = 0.8;
-  mc.clutter_rate = 2.0;
+  const StereoMeasurementConfig mc = stereo_problem_measurement_config();
   StereoProblem p{Se3Motion(Se3MotionConfig{}),
                   StereoMeasurementModel(test::kitti_calibration(), mc),
                   {},
@@ -43,9 +56,7 @@ inline StereoProblem make_stereo_problem(int K, std::uint64_t seed) {
   RandomStream rng(seed, 11);
   for (int j = 0; j < 60; ++j)
     p.landmarks.emplace_back(rng.uniform(-12.0, 12.0), rng.uniform(-3.0, 2.0), rng.uniform(6.0, 35.0));
-  Matrix6d Q = Matrix6d::Zero();
-  Q.diagonal() << 0.02, 0.02, 0.04, 0.003, 0.003, 0.003;
-  Q = Q.cwiseProduct(Q);
+  const Matrix6d Q = stereo_problem_vo_covariance();
   const Pose3 step = se3_exp((Vector6d() << 0.0, 0.0, 1.0, 0.0, 0.01, 0.0).finished());
   p.truth.push_back(Pose3::Identity());
   p.odometry.push_back(Pose3::Identity());

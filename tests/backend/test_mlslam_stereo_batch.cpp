@@ -156,21 +156,18 @@ TEST(MlSlamStereoBatch, ReusedProblemReachesTheRebuiltProblemsEstimate) {
   }
 }
 
+constexpr int kBentDriveFrames = 400;
+constexpr double kBentDriveYawRad = 0.002;  ///< the bend's yaw at the drive's end
+
 /// Max position error after one M-step of one Levenberg–Marquardt iteration from `radius`, on a 400-frame
 /// straight drive (1 m per frame, exact controls, noise-free measurements of landmarks on both sides) started
 /// from the truth bent by a yaw about the start that grows along the path to 0.002 rad (0.8 m at the end),
 /// the landmarks at the truth.
 double error_after_one_step_on_a_bent_drive(double radius) {
-  const int K = 400;
-  StereoMeasurementConfig mc;
-  mc.pixel_sigma = 1.0;
-  mc.min_depth = 1.0;
-  mc.max_depth = 40.0;
+  const int K = kBentDriveFrames;
   const Se3Motion motion{Se3MotionConfig{}};
-  const StereoMeasurementModel model(test::kitti_calibration(), mc);
-  Matrix6d Q = Matrix6d::Zero();
-  Q.diagonal() << 0.02, 0.02, 0.04, 0.003, 0.003, 0.003;
-  Q = Q.cwiseProduct(Q);
+  const StereoMeasurementModel model(test::kitti_calibration(), test::stereo_problem_measurement_config());
+  const Matrix6d Q = test::stereo_problem_vo_covariance();
   StereoMlSlam::PoseList truth, start;
   StereoMlSlam::ControlList controls;
   for (int k = 0; k < K; ++k) {
@@ -181,7 +178,7 @@ double error_after_one_step_on_a_bent_drive(double radius) {
     u.covariance = Q;
     if (k > 0) u.delta = truth[static_cast<std::size_t>(k) - 1].inverse() * x;
     controls.push_back(u);
-    const double yaw = 0.002 * k / K;  // about the start: a slow bend of the whole drive
+    const double yaw = kBentDriveYawRad * k / K;  // about the start: a slow bend of the whole drive
     start.push_back(Pose3(Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitY())) * x);
   }
   StereoMlSlam::LandmarkList map;
@@ -205,7 +202,9 @@ double error_after_one_step_on_a_bent_drive(double radius) {
 /// from Ceres' default radius 10⁴ leaves much of the bend, one from 10⁸ (Gauss–Newton's step) removes it.
 /// The reason for the final pass's refine.final_trust_region_radius.
 TEST(MlSlamStereoBatch, AnUndampedStepStraightensTheSlowBendOfALongDrive) {
-  const double bend = 399.0 * std::sin(0.002 * 399.0 / 400.0);  // the start's largest error
+  const double last = kBentDriveFrames - 1;
+  const double bend =
+      last * std::sin(kBentDriveYawRad * last / kBentDriveFrames);  // the start's largest error
   const double damped = error_after_one_step_on_a_bent_drive(1e4);
   const double undamped = error_after_one_step_on_a_bent_drive(1e8);
   EXPECT_GT(damped, 0.25 * bend);   // 0.32 m of 0.80 m left
