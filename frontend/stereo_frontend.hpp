@@ -1,5 +1,6 @@
 #pragma once
 // Facade of the stereo frontend: ORB on both images (concurrently), stereo matching and triangulation.
+#include <functional>
 #include <memory>
 
 #include <opencv2/core.hpp>
@@ -19,8 +20,9 @@ struct StereoFrameFeatures {
   StereoMeasurementList measurements;    ///< one per accepted stereo match, in left-keypoint order
   std::vector<int> left_to_measurement;  ///< per left keypoint: index into measurements or −1
   StereoMatchStats stats;
-  double extract_ms = 0.0;  ///< wall time of the ORB extraction of both images
-  double match_ms = 0.0;    ///< wall time of stereo matching and triangulation
+  double extract_ms =
+      0.0;  ///< wall time of the ORB extraction of both images (with loaders: and their loading)
+  double match_ms = 0.0;  ///< wall time of stereo matching and triangulation
 };
 
 class StereoFrontend {
@@ -31,11 +33,19 @@ class StereoFrontend {
   /// features of the other image (if any) and no stereo measurements, so the VO falls back for that frame.
   /// Throws InputError("stereo frame", …) if both images are non-empty and differ in size.
   StereoFrameFeatures process(const cv::Mat& left, const cv::Mat& right) const;
+  /// The same for a pair produced by two loaders, each called on the thread that extracts its image: with
+  /// config.orb.parallel the right image's decoding (and rectification) overlaps the left one's instead of
+  /// preceding it. An exception of either loader propagates, after the other side has finished.
+  StereoFrameFeatures process(const std::function<cv::Mat()>& load_left,
+                              const std::function<cv::Mat()>& load_right) const;
 
   const StereoCamera& camera() const { return matcher_.camera(); }
   const OrbExtractor& extractor() const { return left_extractor_; }
 
  private:
+  /// Stereo matching and triangulation of f.left against f.right.
+  void match(StereoFrameFeatures& f) const;
+
   FrontendConfig config_;
   OrbExtractor left_extractor_;
   OrbExtractor right_extractor_;

@@ -168,12 +168,11 @@ void EurocDataset::read_ground_truth(const fs::path& mav, const std::vector<std:
   ground_truth_ = std::move(poses);
 }
 
-StereoFrame EurocDataset::load(std::size_t i) const {
-  StereoFrame frame =
-      detail::read_stereo_frame(name_, i, left_files_, right_files_, timestamps_, raw_width_, raw_height_);
-  frame.left = rectification_->rectify_left(frame.left);
-  frame.right = rectification_->rectify_right(frame.right);
-  return frame;
+cv::Mat EurocDataset::load_image(std::size_t i, StereoSide side) const {
+  const bool left = side == StereoSide::kLeft;
+  const cv::Mat raw =
+      detail::read_stereo_image(name_, i, left ? left_files_ : right_files_, raw_width_, raw_height_);
+  return left ? rectification_->rectify_left(raw) : rectification_->rectify_right(raw);
 }
 
 }  // namespace glmbslam::io

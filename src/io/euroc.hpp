@@ -48,7 +48,7 @@ class EurocDataset : public StereoDataset {
   const std::vector<double>& timestamps() const override { return timestamps_; }
   const std::optional<PoseList>& ground_truth() const override { return ground_truth_; }
   const std::vector<char>& ground_truth_mask() const override { return ground_truth_mask_; }
-  StereoFrame load(std::size_t i) const override;
+  cv::Mat load_image(std::size_t i, StereoSide side) const override;
   std::string name() const override { return name_; }
 
  private:

@@ -36,19 +36,13 @@ bool is_blank_line(const std::string& line) {
   return line.find_first_not_of(" \t\r") == std::string::npos;
 }
 
-StereoFrame read_stereo_frame(const std::string& name, std::size_t i, const ImageFileList& left,
-                              const ImageFileList& right, const std::vector<double>& timestamps, int width,
-                              int height) {
-  if (i >= left.size()) {
+cv::Mat read_stereo_image(const std::string& name, std::size_t i, const ImageFileList& files, int width,
+                          int height) {
+  if (i >= files.size()) {
     throw InputError(
-        name, "frame " + std::to_string(i) + " out of range (" + std::to_string(left.size()) + " frames)");
+        name, "frame " + std::to_string(i) + " out of range (" + std::to_string(files.size()) + " frames)");
   }
-  StereoFrame frame;
-  frame.index = i;
-  frame.timestamp = timestamps[i];
-  frame.left = read_gray_image(left.path(i), width, height);
-  frame.right = read_gray_image(right.path(i), width, height);
-  return frame;
+  return read_gray_image(files.path(i), width, height);
 }
 
 void require_directory(const fs::path& dir, const std::string& what) {

@@ -39,12 +39,10 @@ void require_file(const std::filesystem::path& file, const std::string& what);
 /// is not width×height (when width > 0).
 cv::Mat read_gray_image(const std::filesystem::path& file, int width = 0, int height = 0);
 
-/// Frame i of a stereo image list (its timestamp and both 8-bit images of width×height when width > 0).
-/// Throws InputError naming `name` if i is out of range, or naming the image file if it is missing or
-/// unreadable.
-StereoFrame read_stereo_frame(const std::string& name, std::size_t i, const ImageFileList& left,
-                              const ImageFileList& right, const std::vector<double>& timestamps, int width,
-                              int height);
+/// Image i of one side's image list (8-bit, width×height when width > 0). Throws InputError naming `name`
+/// if i is out of range, or naming the image file if it is missing or unreadable.
+cv::Mat read_stereo_image(const std::string& name, std::size_t i, const ImageFileList& files, int width,
+                          int height);
 
 /// Sets calib.width/height from the first image and checks that the calibration belongs to images of that
 /// size: the principal point must lie inside the image (a calibration of another camera or resolution usually

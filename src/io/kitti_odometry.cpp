@@ -111,9 +111,9 @@ KittiOdometryDataset::KittiOdometryDataset(const std::string& sequence_dir,
   name_ = "kitti odometry " + named.filename().string();
 }
 
-StereoFrame KittiOdometryDataset::load(std::size_t i) const {
-  return detail::read_stereo_frame(name_, i, left_files_, right_files_, timestamps_, calibration_.width,
-                                   calibration_.height);
+cv::Mat KittiOdometryDataset::load_image(std::size_t i, StereoSide side) const {
+  return detail::read_stereo_image(name_, i, side == StereoSide::kLeft ? left_files_ : right_files_,
+                                   calibration_.width, calibration_.height);
 }
 
 }  // namespace glmbslam::io

@@ -33,7 +33,7 @@ class KittiOdometryDataset : public StereoDataset {
   const StereoCalibration& calibration() const override { return calibration_; }
   const std::vector<double>& timestamps() const override { return timestamps_; }
   const std::optional<PoseList>& ground_truth() const override { return ground_truth_; }
-  StereoFrame load(std::size_t i) const override;
+  cv::Mat load_image(std::size_t i, StereoSide side) const override;
   std::string name() const override { return name_; }
 
   /// Path of the ground-truth file actually read (empty if none).

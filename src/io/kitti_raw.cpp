@@ -240,8 +240,8 @@ KittiRawDataset::KittiRawDataset(const std::string& drive_dir, const std::string
   name_ = "kitti raw " + named.filename().string();
 }
 
-StereoFrame KittiRawDataset::load(std::size_t i) const {
-  return detail::read_stereo_frame(name_, i, left_files_, right_files_, timestamps_,
+cv::Mat KittiRawDataset::load_image(std::size_t i, StereoSide side) const {
+  return detail::read_stereo_image(name_, i, side == StereoSide::kLeft ? left_files_ : right_files_,
                                    calibration_.stereo.width, calibration_.stereo.height);
 }
 

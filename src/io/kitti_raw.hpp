@@ -65,7 +65,7 @@ class KittiRawDataset : public StereoDataset {
   const std::vector<double>& timestamps() const override { return timestamps_; }
   const std::optional<PoseList>& ground_truth() const override { return ground_truth_; }
   const std::vector<char>& ground_truth_mask() const override { return ground_truth_mask_; }
-  StereoFrame load(std::size_t i) const override;
+  cv::Mat load_image(std::size_t i, StereoSide side) const override;
   std::string name() const override { return name_; }
 
   const KittiRawCalibration& raw_calibration() const { return calibration_; }

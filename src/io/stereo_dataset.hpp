@@ -21,6 +21,9 @@ struct StereoFrame {
   cv::Mat right;
 };
 
+/// Which image of a stereo pair.
+enum class StereoSide { kLeft, kRight };
+
 enum class DatasetFormat { kAuto, kKittiOdometry, kKittiRaw, kEuroc, kVictoriaPark };
 
 /// Parses "auto", "kitti", "kitti_raw", "euroc", "victoria_park"; throws ConfigError otherwise.
@@ -45,9 +48,13 @@ class StereoDataset {
     static const std::vector<char> all;
     return all;
   }
-  /// Loads frame i (0 ≤ i < size()). Throws InputError naming the image file if it is missing or unreadable,
-  /// or if its size does not match the calibration.
-  virtual StereoFrame load(std::size_t i) const = 0;
+  /// One image of frame i (0 ≤ i < size()), rectified. Throws InputError naming the dataset if i is out of
+  /// range, or naming the image file if it is missing or unreadable, or if its size does not match the
+  /// calibration. Safe to call for the two sides of a frame concurrently (the pipeline decodes them in
+  /// parallel).
+  virtual cv::Mat load_image(std::size_t i, StereoSide side) const = 0;
+  /// Loads frame i: its timestamp and both images (load_image of each side, one after the other).
+  StereoFrame load(std::size_t i) const;
   /// Human-readable name (e.g. "kitti odometry 00").
   virtual std::string name() const = 0;
 };

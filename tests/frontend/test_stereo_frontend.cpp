@@ -1,9 +1,11 @@
 // ORB extraction and stereo matching: bad inputs never crash; on a real KITTI pair the features are spread
 // over the image and the stereo matches obey the rectified-row and depth-range constraints.
 #include <cmath>
+#include <utility>
 
 #include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include "core/error.hpp"
 #include "frontend/stereo_frontend.hpp"
@@ -52,6 +54,57 @@ TEST(StereoFrontend, BlankAndTinyImagesDoNotCrash) {
 TEST(StereoFrontend, SizeMismatchIsAnInputError) {
   const StereoFrontend fe(kitti_raw_calibration(), FrontendConfig{});
   EXPECT_THROW(fe.process(cv::Mat::zeros(375, 1242, CV_8U), cv::Mat::zeros(370, 1242, CV_8U)), InputError);
+}
+
+/// A textured pair: smoothed noise on the left, the right one shifted 12 px (a fronto-parallel plane).
+std::pair<cv::Mat, cv::Mat> textured_pair() {
+  cv::Mat noise(375, 1242, CV_8U);
+  cv::RNG rng(11);
+  rng.fill(noise, cv::RNG::UNIFORM, 0, 256);
+  cv::Mat left;
+  cv::GaussianBlur(noise, left, cv::Size(5, 5), 1.2);
+  cv::Mat right = cv::Mat::zeros(left.size(), CV_8U);
+  left(cv::Rect(12, 0, left.cols - 12, left.rows)).copyTo(right(cv::Rect(0, 0, left.cols - 12, left.rows)));
+  return {left, right};
+}
+
+TEST(StereoFrontend, LoadersGiveTheFeaturesOfThePair) {
+  const auto [left, right] = textured_pair();
+  for (const bool parallel : {true, false}) {
+    FrontendConfig config;
+    config.orb.parallel = parallel;
+    const StereoFrontend fe(kitti_raw_calibration(), config);
+    const StereoFrameFeatures a = fe.process(left, right);
+    const StereoFrameFeatures b = fe.process([&] { return left; }, [&] { return right; });
+    ASSERT_GT(a.measurements.size(), 100u) << "parallel " << parallel;
+    ASSERT_EQ(a.left.keypoints.size(), b.left.keypoints.size());
+    ASSERT_EQ(a.right.keypoints.size(), b.right.keypoints.size());
+    ASSERT_EQ(a.measurements.size(), b.measurements.size());
+    EXPECT_EQ(cv::norm(a.left.descriptors, b.left.descriptors, cv::NORM_HAMMING), 0.0);
+    EXPECT_EQ(cv::norm(a.right.descriptors, b.right.descriptors, cv::NORM_HAMMING), 0.0);
+    for (std::size_t m = 0; m < a.measurements.size(); ++m) {
+      EXPECT_EQ(a.measurements[m].z, b.measurements[m].z);
+      EXPECT_EQ(a.measurements[m].point, b.measurements[m].point);
+    }
+    EXPECT_EQ(a.left_to_measurement, b.left_to_measurement);
+    // a missing side, as process(left, empty)
+    const StereoFrameFeatures c = fe.process([&] { return left; }, [] { return cv::Mat(); });
+    EXPECT_EQ(c.left.keypoints.size(), a.left.keypoints.size());
+    EXPECT_TRUE(c.measurements.empty());
+  }
+}
+
+TEST(StereoFrontend, LoaderErrorsAndSizeMismatchPropagate) {
+  const auto [left, right] = textured_pair();
+  const StereoFrontend fe(kitti_raw_calibration(), FrontendConfig{});
+  auto failing = []() -> cv::Mat { throw InputError("image_1/000007.png", "cannot be read"); };
+  EXPECT_THROW(fe.process([&] { return left; }, failing), InputError);
+  EXPECT_THROW(fe.process(failing, [&] { return right; }), InputError);
+  EXPECT_THROW(fe.process(failing, failing), InputError);
+  const cv::Mat shorter = right(cv::Rect(0, 0, right.cols, right.rows - 5)).clone();
+  EXPECT_THROW(fe.process([&] { return left; }, [&] { return shorter; }), InputError);
+  // the frontend stays usable after the errors
+  EXPECT_GT(fe.process([&] { return left; }, [&] { return right; }).measurements.size(), 100u);
 }
 
 TEST(StereoFrontend, RealKittiPairSpreadAndStereoConstraints) {

@@ -185,6 +185,22 @@ TEST(KittiOdometry, ImageSizeCheckedOnLoad) {
   expect_input_error([&] { ds.load(2); }, "000002.png", "expected 40x30");
 }
 
+TEST(KittiOdometry, EachSideLoadsAloneAsInThePair) {
+  const auto root = test::fresh_temp_dir("kitti_odo_side");
+  const auto seq = make_fake_kitti_sequence(root, 3);
+  KittiOdometryDataset ds(seq.string());
+  const StereoFrame frame = ds.load(1);
+  EXPECT_EQ(cv::norm(ds.load_image(1, StereoSide::kLeft), frame.left, cv::NORM_INF), 0.0);
+  EXPECT_EQ(cv::norm(ds.load_image(1, StereoSide::kRight), frame.right, cv::NORM_INF), 0.0);
+  EXPECT_EQ(frame.timestamp, ds.timestamps()[1]);
+  expect_input_error([&] { ds.load_image(3, StereoSide::kRight); }, "kitti odometry", "out of range");
+  expect_input_error([&] { ds.load(3); }, "kitti odometry", "out of range");
+  // an unreadable right image is the right side's error only
+  write_text(seq / "image_1" / "000002.png", "this is not a png");
+  EXPECT_NO_THROW(ds.load_image(2, StereoSide::kLeft));
+  expect_input_error([&] { ds.load_image(2, StereoSide::kRight); }, "000002.png", "unreadable");
+}
+
 TEST(KittiOdometry, GroundTruthProblems) {
   const auto root = test::fresh_temp_dir("kitti_odo");
   const auto seq = make_fake_kitti_sequence(root, 3);

@@ -27,8 +27,9 @@ FrameWork FrameSource::process(std::size_t index) const {
   w.timestamp = index < times.size() ? times[index] : std::nan("");
   Stopwatch watch;
   try {
-    const io::StereoFrame frame = dataset_.load(index);
-    w.features = frontend_.process(frame.left, frame.right);
+    // each image decoded on the thread that extracts its features (the two sides in parallel)
+    w.features = frontend_.process([&] { return dataset_.load_image(index, io::StereoSide::kLeft); },
+                                   [&] { return dataset_.load_image(index, io::StereoSide::kRight); });
     w.loaded = true;
   } catch (const InputError& e) {
     w.load_error = e.what();
