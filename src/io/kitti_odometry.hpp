@@ -1,7 +1,7 @@
 #pragma once
 // KITTI odometry stereo sequence: sequences/XX/{image_0,image_1}/NNNNNN.png, calib.txt (P0..P3, 12 numbers
 // each), times.txt, and ground truth poses/XX.txt (found at ../../poses/XX.txt or given explicitly).
-// Frames are read lazily, one stereo pair per load(i).
+// Frames are read lazily, one image per load_image(i, side).
 #include <filesystem>
 #include <optional>
 #include <string>
