@@ -52,6 +52,6 @@ start=$(date +%s)
 snakemake --snakefile workflow/Snakefile "${mode[@]}" "${config[@]}" "${extra[@]}"
 end=$(date +%s)
 if [ "$results_doc" = 1 ]; then
-  snakemake --snakefile workflow/Snakefile --cores 1 --forcerun results_doc "${config[@]}" results_doc
+  snakemake --snakefile workflow/Snakefile --cores 1 --forcerun results_doc results_doc "${config[@]}"
 fi
 echo "== preset $preset done in $((end - start)) s: $out/$preset/{results.csv,summary.md,summary.html,plots/}"
