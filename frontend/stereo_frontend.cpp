@@ -29,41 +29,35 @@ void require_same_size(const cv::Mat& left, const cv::Mat& right) {
 
 StereoFrameFeatures StereoFrontend::process(const cv::Mat& left, const cv::Mat& right) const {
   require_same_size(left, right);
-  StereoFrameFeatures f;
-  Stopwatch sw;
-  if (right_worker_ && !left.empty() && !right.empty()) {
-    auto right_job = right_worker_->submit([&] { return right_extractor_.extract(right); });
-    f.left = left_extractor_.extract(left);
-    f.right = right_job.get();
-  } else {
-    f.left = left_extractor_.extract(left);
-    f.right = right_extractor_.extract(right);
-  }
-  f.extract_ms = sw.elapsed_ms();
-  match(f);
-  return f;
+  return process([&] { return left; }, [&] { return right; });
 }
 
 StereoFrameFeatures StereoFrontend::process(const std::function<cv::Mat()>& load_left,
                                             const std::function<cv::Mat()>& load_right) const {
-  if (!right_worker_) return process(load_left(), load_right());
-  cv::Mat right;
-  auto right_job = right_worker_->submit([&] {
-    right = load_right();
-    return right_extractor_.extract(right);  // an empty image gives no features
-  });
   StereoFrameFeatures f;
-  cv::Mat left;
+  cv::Mat left, right;
   Stopwatch sw;
-  try {
+  if (!right_worker_) {
     left = load_left();
-    f.left = left_extractor_.extract(left);
-  } catch (...) {
-    right_job.wait();  // the job refers to this frame's locals
-    throw;
+    right = load_right();
+    require_same_size(left, right);
+    f.left = left_extractor_.extract(left);  // an empty image gives no features
+    f.right = right_extractor_.extract(right);
+  } else {
+    auto right_job = right_worker_->submit([&] {
+      right = load_right();
+      return right_extractor_.extract(right);
+    });
+    try {
+      left = load_left();
+      f.left = left_extractor_.extract(left);
+    } catch (...) {
+      right_job.wait();  // the job refers to this frame's locals
+      throw;
+    }
+    f.right = right_job.get();
+    require_same_size(left, right);
   }
-  f.right = right_job.get();
-  require_same_size(left, right);
   f.extract_ms = sw.elapsed_ms();
   match(f);
   return f;

@@ -20,8 +20,8 @@ struct StereoFrameFeatures {
   StereoMeasurementList measurements;    ///< one per accepted stereo match, in left-keypoint order
   std::vector<int> left_to_measurement;  ///< per left keypoint: index into measurements or −1
   StereoMatchStats stats;
-  double extract_ms =
-      0.0;  ///< wall time of the ORB extraction of both images (with loaders: and their loading)
+  /// Wall time of the ORB extraction of both images (given loaders: their loading included).
+  double extract_ms = 0.0;
   double match_ms = 0.0;  ///< wall time of stereo matching and triangulation
 };
 
