@@ -4,9 +4,11 @@
 // Eq. 17 and l at the new estimate). The M-step holds p_D fixed, so a round that lowers l is halved back
 // towards the previous estimate up to three times, else undone and the solve stops; the solve also stops
 // when a round adds less than max(tolerance, relative_tolerance × the rise since the start) and no
-// cardinality move was accepted.
+// cardinality move was accepted, or before a round when the caller's stop predicate is true (an interrupted
+// run: the estimate is then the last completed round's, whose l is the highest so far).
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <utility>
 #include <vector>
 
@@ -44,15 +46,20 @@ void blend_towards(const State& from, State& next) {
 /// Runs the rounds from `s` (State has poses, map, log_likelihood) and leaves the estimate in `s`.
 /// `e_step(State&)` sets β and l; `m_step(State&)` moves the estimate; `moves(State&)` tries cardinality
 /// moves after a round and returns how many it accepted. `keep_every_step`: every M-step is kept, without
-/// halving (vector ML with nearest-neighbour association, whose l is not what its M-step raises). Sets the
-/// report's (MlSlamReport's) rounds and initial / final / per-round log-likelihoods.
+/// halving (vector ML with nearest-neighbour association, whose l is not what its M-step raises). `stop`
+/// (may be empty) is asked before every round; when it says true the rounds end and report.stopped is set.
+/// Sets the report's (MlSlamReport's) rounds and initial / final / per-round log-likelihoods.
 template <class State, class EStep, class MStep, class Blend, class Moves, class Report>
 void run_em_rounds(State& s, const MlSlamConfig& config, bool keep_every_step, EStep&& e_step, MStep&& m_step,
-                   Blend&& blend, Moves&& moves, Report& report) {
+                   Blend&& blend, Moves&& moves, const std::function<bool()>& stop, Report& report) {
   e_step(s);
   report.initial_log_likelihood = s.log_likelihood;
   double l = s.log_likelihood;
   for (int round = 0; round < config.max_rounds; ++round) {
+    if (stop && stop()) {
+      report.stopped = true;
+      break;
+    }
     State next = s;
     m_step(next);
     e_step(next);

@@ -22,6 +22,7 @@
 // objective is the least-squares cost; associations are re-made every round.
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <memory>
 #include <string>
 #include <type_traits>
@@ -37,6 +38,7 @@
 #include "backend/mlslam/ceres_factors_2d.hpp"
 #include "backend/mlslam/em_rounds.hpp"
 #include "backend/mlslam/landmark_grid.hpp"
+#include "backend/mlslam/ml_slam_report.hpp"
 #include "backend/mlslam/mlslam_config.hpp"
 #include "backend/mlslam/move_gains.hpp"
 #include "backend/mlslam/scan_likelihood.hpp"
@@ -46,18 +48,6 @@
 #include "core/stopwatch.hpp"
 
 namespace glmbslam::backend {
-
-struct MlSlamReport {
-  int rounds = 0;
-  double initial_log_likelihood = 0.0;
-  double final_log_likelihood = 0.0;
-  std::vector<double> log_likelihood_per_round;  ///< l after each round (the objective being maximised)
-  int births = 0, deaths = 0, merges = 0;        ///< accepted cardinality moves
-  double ms = 0.0;
-  double e_step_ms = 0.0, m_step_ms = 0.0;  ///< of ms: the E-steps (likelihood and β), the M-steps (Ceres)
-  double moves_ms = 0.0;                    ///< of ms: the cardinality moves (candidates and their Δl)
-  double motion_scale = 1.0;  ///< s of the motion noise s·Q at the end (1 unless motion_noise "estimated")
-};
 
 template <class Motion, class Model, class Parts = PlanarMlSlamParts<Motion, Model>>
 class RfsMlSlam {
@@ -79,6 +69,11 @@ class RfsMlSlam {
     if (config_.birth_radius_m <= 0.0) config_.birth_radius_m = 10.0 * scale;
     if (config_.merge_distance_m <= 0.0) config_.merge_distance_m = 10.0 * scale;
   }
+
+  /// A predicate asked before every EM round (and, standalone, before every new stretch of steps): when it
+  /// says true the solve ends with the last completed round's estimate and MlSlamReport::stopped (an
+  /// interrupted run keeps what the rounds so far gained). Empty = never.
+  void set_stop(std::function<bool()> stop) { stop_ = std::move(stop); }
 
   /// Refines `poses` (x_0..x_K; x_0 held) and `map` in place. controls[k] drives x_{k−1} to x_k (controls[0]
   /// unused); scans[k] = Z_k. Returns the solve's statistics.
@@ -111,7 +106,7 @@ class RfsMlSlam {
           report.moves_ms += c.elapsed_ms();
           return accepted;
         },
-        report);
+        stop_, report);
     report.ms = watch.elapsed_ms();
     report.motion_scale = s.motion_scale;
     poses = std::move(s.poses);
@@ -146,10 +141,14 @@ class RfsMlSlam {
       total.deaths += r.deaths;
       total.merges += r.merges;
       total.final_log_likelihood = r.final_log_likelihood;
+      total.stopped = r.stopped;
       total.log_likelihood_per_round.insert(total.log_likelihood_per_round.end(),
                                             r.log_likelihood_per_round.begin(),
                                             r.log_likelihood_per_round.end());
-      if (end == K) break;
+      if (end == K || total.stopped || (stop_ && stop_())) {
+        total.stopped = total.stopped || end < K;  // poses then holds steps 0..end−1 only
+        break;
+      }
     }
     total.ms = watch.elapsed_ms();
     return total;
@@ -614,6 +613,7 @@ class RfsMlSlam {
   Model model_;
   MlSlamConfig config_;
   typename Parts::Detection p_D_;
+  std::function<bool()> stop_;
   mutable typename Parts::Manifold manifold_;
 };
 

@@ -8,6 +8,7 @@
 // rest).
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <stdexcept>
 #include <utility>
 #include <vector>
@@ -45,6 +46,9 @@ class StereoBatchMlSlam {
     return !c.cardinality_moves && c.association == "rfs" && c.motion_noise == "configured";
   }
 
+  /// As RfsMlSlam::set_stop: asked before every EM round; true ends the solve with the last round's estimate.
+  void set_stop(std::function<bool()> stop) { stop_ = std::move(stop); }
+
   /// Refines `poses` (x_0 held) and `map` in place; as RfsMlSlam::solve.
   MlSlamReport solve(PoseList& poses, const ControlList& controls, const std::vector<MeasurementSet>& scans,
                      LandmarkList& map) const {
@@ -67,7 +71,7 @@ class StereoBatchMlSlam {
           m_step(problem, next, scans);
           report.m_step_ms += m.elapsed_ms();
         },
-        blend_towards<Se3Motion, State>, [](State&) { return 0; }, report);
+        blend_towards<Se3Motion, State>, [](State&) { return 0; }, stop_, report);
     report.ms = watch.elapsed_ms();
     poses = std::move(s.poses);
     map = std::move(s.map);
@@ -139,6 +143,7 @@ class StereoBatchMlSlam {
   StereoMeasurementModel model_;
   MlSlamConfig config_;
   SmoothStereoDetection p_D_;
+  std::function<bool()> stop_;
 };
 
 }  // namespace glmbslam::backend

@@ -106,7 +106,8 @@ void write_run_outputs(const std::string& out_dir, const RunRecord& r, bool plot
   j["frames"] = r.slam_poses.size();
   j["frames_requested"] = r.frames_requested;
   j["interrupted"] = r.interrupted;
-  if (r.interrupted && !r.slam_poses.empty()) j["last_frame_done"] = r.first_frame + r.slam_poses.size() - 1;
+  if (r.interrupted && !r.slam_poses.empty() && r.slam_poses.size() < r.frames_requested)
+    j["last_frame_done"] = r.first_frame + r.slam_poses.size() - 1;
   std::string table;
   std::optional<eval::TrajectoryEvaluation> slam_evaluation, vo_evaluation, refined_evaluation;
   // plots and the report compare per frame: with partial ground truth they show the frames that have it
@@ -181,8 +182,12 @@ void write_run_outputs(const std::string& out_dir, const RunRecord& r, bool plot
                    vo_evaluation ? &*vo_evaluation : nullptr,
                    refined_evaluation ? &*refined_evaluation : nullptr);
 
-  if (r.interrupted) {
+  if (r.interrupted && r.slam_poses.size() < r.frames_requested) {
     std::printf("\ninterrupted: %zu of %zu frames done\n", r.slam_poses.size(), r.frames_requested);
+  } else if (r.interrupted) {
+    std::printf(
+        "\ninterrupted during the refinement's final pass: every frame done, the refined trajectory "
+        "is the pass's last completed round\n");
   }
   std::printf("\n%s", table.c_str());
   std::printf(

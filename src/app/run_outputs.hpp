@@ -11,7 +11,8 @@
 //   plots/              trajectories vs ground truth, errors, map top view (PNG)
 // An interrupted run (SIGINT/SIGTERM) writes the same files for the frames it finished: the trajectories hold
 // one pose per finished frame and metrics.json says "interrupted": true with the frames requested and the
-// last frame done.
+// last frame done. Interrupted during the refinement's final pass, every frame is there, "interrupted" is
+// true and refinement.final_interrupted is 1 (the refined outputs are the pass's last completed round).
 #include <map>
 #include <string>
 #include <vector>
@@ -42,7 +43,8 @@ struct RunRecord {
   std::vector<bool> resampled;
   std::size_t vo_fallbacks = 0;
   std::size_t missing_frames = 0;
-  bool interrupted = false;  ///< stopped by SIGINT/SIGTERM before the last requested frame
+  /// stopped by SIGINT/SIGTERM before the last requested frame, or during the refinement's final pass
+  bool interrupted = false;
   std::size_t frames_requested =
       0;  ///< frames of the requested range (the record holds fewer if interrupted)
   double wall_s = 0.0;

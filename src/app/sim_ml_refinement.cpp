@@ -1,6 +1,7 @@
 #include "app/sim_ml_refinement.hpp"
 
 #include "backend/mlslam/rfs_ml_slam.hpp"
+#include "core/interrupt.hpp"
 
 namespace glmbslam::app {
 
@@ -28,6 +29,7 @@ MlSimResult result_of(const typename Slam<Motion>::PoseList& poses,
   out.ms = r.ms;
   out.rounds = r.rounds;
   out.log_likelihood = r.final_log_likelihood;
+  out.interrupted = r.stopped;
   return out;
 }
 
@@ -39,7 +41,8 @@ MlSimResult run_mlslam(const Motion& motion, const backend::RangeBearingModel& m
   const Inputs<Motion> in(s);
   typename Slam<Motion>::PoseList poses;
   typename Slam<Motion>::LandmarkList map;
-  const Slam<Motion> slam(motion, model, config);
+  Slam<Motion> slam(motion, model, config);
+  slam.set_stop([] { return interrupt_requested(); });
   const auto r = slam.solve_from_odometry(s.initial_pose(), in.controls, in.scans, poses, map);
   return result_of<Motion>(poses, map, r);
 }
@@ -51,7 +54,8 @@ MlSimResult refine_ml(const Motion& motion, const backend::RangeBearingModel& mo
   const Inputs<Motion> in(s);
   typename Slam<Motion>::PoseList x(poses.begin(), poses.end());
   typename Slam<Motion>::LandmarkList m(map.begin(), map.end());
-  const Slam<Motion> slam(motion, model, config);
+  Slam<Motion> slam(motion, model, config);
+  slam.set_stop([] { return interrupt_requested(); });
   const auto r = slam.solve(x, in.controls, in.scans, m);
   return result_of<Motion>(x, m, r);
 }

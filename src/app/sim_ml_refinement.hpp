@@ -19,6 +19,7 @@ struct MlSimResult {
   double ms = 0.0;                     ///< wall time of the solve
   int rounds = 0;                      ///< EM rounds
   double log_likelihood = 0.0;         ///< l (Eq. 8) at the solution
+  bool interrupted = false;            ///< SIGINT/SIGTERM stopped the solve (the run is left out)
 };
 
 /// Standalone: the trajectory from the odometry, the map from births (config.incremental_steps > 0: the

@@ -142,9 +142,11 @@ RunRecord drive(Slam& slam, const sim::Scenario2D& s, const std::vector<std::vec
   return rec;
 }
 
-/// An ML solution (standalone or refinement) as the run's estimate.
+/// An ML solution (standalone or refinement) as the run's estimate; an interrupted solve ends the run as an
+/// interrupted filter step does.
 void apply_ml(RunRecord& rec, const MlSimResult& ml, const sim::Scenario2D& s,
               const std::vector<std::vector<int>>& seen) {
+  if (ml.interrupted) throw RunInterrupted{};
   double se = 0.0;
   for (std::size_t k = 1; k < s.steps(); ++k) se += (rec.estimates[k] - s.poses[k]).head<2>().squaredNorm();
   rec.filter_position_rmse = std::sqrt(se / static_cast<double>(std::max<std::size_t>(s.steps() - 1, 1)));

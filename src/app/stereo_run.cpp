@@ -82,15 +82,15 @@ int run_stereo(const RunOptions& options) {
   apply_camera_defaults(root, calibration, config);  // keys the config leaves out follow from the rig
   StereoPipeline pipeline(*dataset, calibration, config, first, last);
   pipeline.add_stage(std::make_unique<TrajectoryStreamStage>(options.out_dir));
-  if (config.refine.enabled) pipeline.add_stage(std::make_unique<RefinementStage>(config, calibration));
+  // SIGINT/SIGTERM: stop at the next frame boundary (or the final pass at its next EM round) and write what
+  // we have
+  const auto stop = [] { return interrupt_requested(); };
+  if (config.refine.enabled) pipeline.add_stage(std::make_unique<RefinementStage>(config, calibration, stop));
   RunRecord record;
-  set_graceful_interrupts(true);  // SIGINT/SIGTERM: stop at the next frame boundary and write what we have
-  pipeline.run(record, [] { return interrupt_requested(); });
-  record.frames_requested = frames;
-  record.interrupted = pipeline.frames_done() < frames;
+  set_graceful_interrupts(true);
+  pipeline.run(record, stop);
   const std::size_t done = pipeline.frames_done();
-  if (record.interrupted)
-    spdlog::warn("interrupted after {} of {} frames; writing their outputs", done, frames);
+  if (done < frames) spdlog::warn("interrupted after {} of {} frames; writing their outputs", done, frames);
 
   if (dataset->ground_truth() && done >= 2) {
     const PoseList& gt = *dataset->ground_truth();

@@ -6,12 +6,14 @@
 
 namespace glmbslam::app {
 
-double solve_victoria_park_ml(const backend::AckermannMotion& motion,
-                              const backend::VictoriaParkMeasurement& model,
-                              const backend::MlSlamConfig& config, const Eigen::Vector3d& initial_pose,
-                              const std::vector<backend::AckermannMotion::Control>& controls,
-                              const std::vector<VpMeasurementSet>& measurements, bool standalone,
-                              VpPoseList& poses, std::vector<Eigen::Vector2d>& map) {
+backend::MlSlamReport solve_victoria_park_ml(const backend::AckermannMotion& motion,
+                                             const backend::VictoriaParkMeasurement& model,
+                                             const backend::MlSlamConfig& config,
+                                             const Eigen::Vector3d& initial_pose,
+                                             const std::vector<backend::AckermannMotion::Control>& controls,
+                                             const std::vector<VpMeasurementSet>& measurements,
+                                             bool standalone, const std::function<bool()>& stop,
+                                             VpPoseList& poses, std::vector<Eigen::Vector2d>& map) {
   using Slam = backend::RfsMlSlam<backend::AckermannMotion, backend::VictoriaParkMeasurement>;
   // step 0 is the initial pose without a scan; the control of step 0 is never used
   Slam::ControlList u{backend::AckermannMotion::Control::Zero(3, 0)};
@@ -20,7 +22,8 @@ double solve_victoria_park_ml(const backend::AckermannMotion& motion,
   Z.insert(Z.end(), measurements.begin(), measurements.end());
   Slam::PoseList x;
   Slam::LandmarkList m(map.begin(), map.end());
-  const Slam slam(motion, model, config);
+  Slam slam(motion, model, config);
+  slam.set_stop(stop);
   backend::MlSlamReport r;
   if (standalone) {
     r = slam.solve_from_odometry(initial_pose, u, Z, x, m);
@@ -36,9 +39,11 @@ double solve_victoria_park_ml(const backend::AckermannMotion& motion,
       "scale {:.4f}, {:.1f} s",
       r.rounds, r.initial_log_likelihood, r.final_log_likelihood, r.births, r.deaths, r.merges,
       r.motion_scale, r.ms / 1000.0);
+  if (r.stopped)
+    spdlog::warn("RFS-ML: interrupted after {} rounds; keeping the estimate of the last one", r.rounds);
   poses.assign(x.begin() + 1, x.end());
   map.assign(m.begin(), m.end());
-  return r.ms;
+  return r;
 }
 
 }  // namespace glmbslam::app

@@ -24,7 +24,8 @@
 //   gps_errors.txt   "t error" per GPS fix used by position_rmse_m (scan time [s], ‖p̂ − p_gps‖ [m]).
 // SIGINT/SIGTERM stop the filter at the next scan: the outputs cover the steps done (no refinement),
 // metrics.json says "interrupted": true (with frames_requested), and the exit code is 130/143
-// (core/interrupt.hpp).
+// (core/interrupt.hpp). During the RFS-ML solve they stop it at its next EM round: the outputs hold the last
+// round's estimate (standalone mlslam: of the steps solved so far) and "interrupted" is true.
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -98,7 +99,8 @@ struct RunRecord {
   std::vector<double> ms, ess;
   int resamples = 0;
   double total_s = 0.0;
-  std::size_t steps_requested = 0;  ///< steps of the run; more than poses.size() when interrupted
+  std::size_t steps_requested = 0;      ///< steps of the run; more than poses.size() when interrupted
+  bool refinement_interrupted = false;  ///< the RFS-ML solve was stopped early (its last round's estimate)
   std::vector<io::MapPoint> map;
 };
 
@@ -139,9 +141,11 @@ void refine_record(const Motion& motion, const Meas& model, const VictoriaParkCo
   VpPoseList poses(rec.poses.begin(), rec.poses.end());
   std::vector<Eigen::Vector2d> map;
   for (const auto& p : rec.map) map.push_back(p.position.head<2>());
-  rec.total_s += solve_victoria_park_ml(motion, model, cfg.ml, cfg.initial_pose, controls, measurements,
-                                        cfg.algorithm == "mlslam", poses, map) /
-                 1000.0;
+  const backend::MlSlamReport r = solve_victoria_park_ml(
+      motion, model, cfg.ml, cfg.initial_pose, controls, measurements, cfg.algorithm == "mlslam",
+      [] { return interrupt_requested(); }, poses, map);
+  rec.total_s += r.ms / 1000.0;
+  rec.refinement_interrupted = r.stopped;
   rec.poses.assign(poses.begin(), poses.end());
   rec.map.clear();
   for (const auto& m : map) {
@@ -180,7 +184,7 @@ void write_outputs(const std::filesystem::path& out, const VictoriaParkConfig& c
   j["threads"] = thread_count();
   j["frames"] = rec.poses.size();
   j["frames_requested"] = rec.steps_requested;
-  j["interrupted"] = rec.poses.size() < rec.steps_requested;
+  j["interrupted"] = rec.poses.size() < rec.steps_requested || rec.refinement_interrupted;
   j["duration_s"] = times.empty() ? 0.0 : times.back() - data.odometry.time_s.front();
   j["position_rmse_m"] = finite_or_null(err.rmse_m);
   j["gps_fixes_used"] = err.error_m.size();

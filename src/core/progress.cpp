@@ -46,6 +46,11 @@ void ProgressReporter::update(std::size_t done, const std::string& extra) {
   const bool last = done >= total_;
   if (last && printed_ >= total_) return;  // the final line is printed once
   if (!last && since_print < (tty_ ? 0.2 : 10.0)) return;
+  print(done, extra);
+}
+
+void ProgressReporter::print(std::size_t done, const std::string& extra) {
+  const auto now = std::chrono::steady_clock::now();
   last_print_ = now;
   printed_ = done;
   const double elapsed = std::chrono::duration<double>(now - start_).count();
@@ -72,6 +77,14 @@ void ProgressReporter::update(std::size_t done, const std::string& extra) {
 void ProgressReporter::finish(const std::string& extra) {
   if (finished_) return;
   update(total_, extra);
+  finished_ = true;
+  if (tty_ && g_enabled) std::fputc('\n', stderr);
+}
+
+void ProgressReporter::finish_at(std::size_t done, const std::string& extra) {
+  if (done >= total_) return finish(extra);
+  if (finished_) return;
+  if (g_enabled) print(done, extra);
   finished_ = true;
   if (tty_ && g_enabled) std::fputc('\n', stderr);
 }

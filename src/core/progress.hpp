@@ -20,11 +20,15 @@ class ProgressReporter {
   void update(std::size_t done, const std::string& extra = "");
   /// Ends the bar: prints the final line unless update() already printed it (then `extra` is ignored).
   void finish(const std::string& extra = "");
+  /// Ends the bar at `done` of the total (a run stopped early): its final line says where it stopped.
+  void finish_at(std::size_t done, const std::string& extra = "");
 
   /// Disables all output (for tests and quiet runs).
   static void set_enabled(bool enabled);
 
  private:
+  void print(std::size_t done, const std::string& extra);
+
   std::size_t total_;
   std::string label_;
   bool tty_;

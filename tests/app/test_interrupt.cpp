@@ -59,12 +59,13 @@ std::size_t line_count(const fs::path& p) {
   return io::read_kitti_poses(p.string()).size();
 }
 
-/// Starts `glmbslam run` on the clip into `out`; returns its pid.
-pid_t start_run(const fs::path& out) {
-  return glmbslam::test::start_glmbslam(
-      {"--threads", "1", "--log-level", "warn", "run", rendered_sequence().string(), "--out", out.string(),
-       "--particles", "5"},
-      out.string() + ".log");
+/// Starts `glmbslam run` on the clip into `out` (with `extra` arguments); returns its pid.
+pid_t start_run(const fs::path& out, const std::vector<std::string>& extra = {}) {
+  std::vector<std::string> args{
+      "--threads", "1",          "--log-level", "warn", "run", rendered_sequence().string(),
+      "--out",     out.string(), "--particles", "5"};
+  args.insert(args.end(), extra.begin(), extra.end());
+  return glmbslam::test::start_glmbslam(args, out.string() + ".log");
 }
 
 /// Waits until the streamed trajectory holds at least `frames` lines (or the process ended); returns the
@@ -88,8 +89,9 @@ std::size_t wait_for_frames(pid_t pid, const fs::path& out, std::size_t frames) 
 
 /// Starts a run into `out`, sends `signal` once at least 5 frames are streamed; returns the wait status and
 /// the frames streamed when the signal was sent.
-std::pair<int, std::size_t> signal_run(const fs::path& out, int signal) {
-  const pid_t pid = start_run(out);
+std::pair<int, std::size_t> signal_run(const fs::path& out, int signal,
+                                       const std::vector<std::string>& extra = {}) {
+  const pid_t pid = start_run(out, extra);
   const std::size_t streamed = wait_for_frames(pid, out, 5);
   EXPECT_GE(streamed, 5u);
   EXPECT_EQ(kill(pid, signal), 0);
@@ -130,6 +132,27 @@ TEST(Interrupt, SigtermWritesEveryFinishedFrameAndExits143) {
 
 TEST(Interrupt, SigintWritesEveryFinishedFrameAndExits130) {
   expect_graceful_stop(SIGINT, 130);
+}
+
+// With --refine ml an interruption during the frames skips the final pass (minutes on a long run, which a
+// scheduler's time limit would not wait for): the refined outputs are the online windows' for the frames
+// done.
+TEST(Interrupt, AnInterruptedRefinedRunSkipsTheFinalPass) {
+  if (!fs::exists(glmbslam::test::glmbslam_binary())) GTEST_SKIP() << "glmbslam executable not built";
+  const fs::path out = glmbslam::test::fresh_temp_dir("interrupt_refine");
+  const auto [status, streamed] = signal_run(out, SIGINT, {"--refine", "ml"});
+  ASSERT_TRUE(WIFEXITED(status)) << "ended by signal " << WTERMSIG(status);
+  EXPECT_EQ(WEXITSTATUS(status), 130);
+  const std::size_t frames = line_count(out / "trajectory.txt");
+  EXPECT_GE(frames, streamed);
+  std::ifstream in(out / "metrics.json");
+  const nlohmann::json m = nlohmann::json::parse(in);
+  ASSERT_LT(frames, kFrames) << "the signal came after the last frame";  // 5 frames streamed, 55 to go
+  EXPECT_TRUE(m.at("interrupted").get<bool>());
+  EXPECT_EQ(line_count(out / "trajectory_refined.txt"), frames);
+  EXPECT_TRUE(m.contains("refined"));
+  EXPECT_FALSE(m.at("refinement").contains("final_ms")) << "the final pass ran after the interruption";
+  fs::remove_all(out);
 }
 
 TEST(Interrupt, SigkillLeavesEveryFinishedFrameInTheStreamedTrajectories) {

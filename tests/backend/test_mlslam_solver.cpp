@@ -158,6 +158,61 @@ TEST(MlSlamSolver, CardinalityMovesRaiseTheLikelihood) {
   EXPECT_LT(max_landmark_error(m_moves, p.landmarks), 0.05);
 }
 
+// An interrupted run: the stop predicate, asked before every round, ends the solve with the estimate of the
+// last completed round — the same as a solve limited to that many rounds — and says so; standalone, the
+// trajectory then holds the steps solved so far.
+TEST(MlSlamSolver, AStopEndsTheRoundsWithTheLastRoundsEstimate) {
+  const auto p = test::make_problem(40, 6, 0.9, 1.0, 11);
+  MlSlamConfig config;
+  config.cardinality_moves = false;
+  config.tolerance = 0.0;
+  MlSlamConfig two_rounds = config;
+  two_rounds.max_rounds = 2;
+  Slam2D stopped(p.motion, p.model, config);
+  int asked = 0;
+  stopped.set_stop([&] { return ++asked > 2; });
+  Slam2D::PoseList x1 = p.odometry, x2 = p.odometry;
+  Slam2D::LandmarkList m1 = p.landmarks, m2 = p.landmarks;
+  const MlSlamReport r1 = stopped.solve(x1, p.controls, p.scans, m1);
+  const MlSlamReport r2 = Slam2D(p.motion, p.model, two_rounds).solve(x2, p.controls, p.scans, m2);
+  EXPECT_TRUE(r1.stopped);
+  EXPECT_FALSE(r2.stopped);
+  EXPECT_EQ(r1.rounds, 2);
+  EXPECT_EQ(asked, 3);
+  EXPECT_EQ(r1.final_log_likelihood, r2.final_log_likelihood);
+  EXPECT_GT(r1.final_log_likelihood, r1.initial_log_likelihood);
+  for (std::size_t k = 0; k < x1.size(); ++k) EXPECT_EQ(x1[k], x2[k]);
+  for (std::size_t j = 0; j < m1.size(); ++j) EXPECT_EQ(m1[j], m2[j]);
+
+  // a stop before the first round leaves the start as it was
+  Slam2D at_once(p.motion, p.model, config);
+  at_once.set_stop([] { return true; });
+  Slam2D::PoseList x3 = p.odometry;
+  Slam2D::LandmarkList m3 = p.landmarks;
+  const MlSlamReport r3 = at_once.solve(x3, p.controls, p.scans, m3);
+  EXPECT_TRUE(r3.stopped);
+  EXPECT_EQ(r3.rounds, 0);
+  for (std::size_t k = 0; k < x3.size(); ++k) EXPECT_EQ(x3[k], p.odometry[k]);
+
+  // standalone, growing 5 steps at a time: every stretch asks at least twice (before its first round and
+  // after its solve), so the eighth question comes within the first four stretches; the trajectory then
+  // holds whole stretches only
+  MlSlamConfig grow = config;
+  grow.incremental_steps = 5;
+  grow.max_rounds = 3;
+  Slam2D standalone(p.motion, p.model, grow);
+  int times_asked = 0;
+  standalone.set_stop([&] { return ++times_asked > 7; });
+  Slam2D::PoseList x4;
+  Slam2D::LandmarkList m4;
+  const MlSlamReport r4 = standalone.solve_from_odometry(p.truth[0], p.controls, p.scans, x4, m4);
+  EXPECT_TRUE(r4.stopped);
+  EXPECT_GE(x4.size(), 6u);
+  EXPECT_LE(x4.size(), 21u);
+  EXPECT_LT(x4.size(), p.scans.size());
+  EXPECT_EQ((x4.size() - 1) % 5, 0u);
+}
+
 TEST(MlSlamSolver, SameInputSameOutputAtAnyThreadCount) {
   const auto p = test::make_problem(30, 6, 0.9, 2.0, 14);
   const Slam2D slam(p.motion, p.model, MlSlamConfig());

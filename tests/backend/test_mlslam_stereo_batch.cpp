@@ -156,6 +156,30 @@ TEST(MlSlamStereoBatch, ReusedProblemReachesTheRebuiltProblemsEstimate) {
   }
 }
 
+// The one-problem final pass stops as RfsMlSlam does: before a round, with the last round's estimate.
+TEST(MlSlamStereoBatch, AStopEndsTheRoundsWithTheLastRoundsEstimate) {
+  const StereoProblem p = make_stereo_problem(12, 3);
+  MlSlamConfig c = stereo_config();
+  c.cardinality_moves = false;
+  c.solver_iterations = 3;
+  c.tolerance = 0.0;
+  MlSlamConfig three = c;
+  three.max_rounds = 3;
+  StereoBatchMlSlam stopped(p.motion, p.model, c);
+  int asked = 0;
+  stopped.set_stop([&] { return ++asked > 3; });
+  StereoMlSlam::PoseList x1 = p.odometry, x2 = p.odometry;
+  StereoMlSlam::LandmarkList m1 = p.landmarks, m2 = p.landmarks;
+  const MlSlamReport r1 = stopped.solve(x1, p.controls, p.scans, m1);
+  const MlSlamReport r2 = StereoBatchMlSlam(p.motion, p.model, three).solve(x2, p.controls, p.scans, m2);
+  EXPECT_TRUE(r1.stopped);
+  EXPECT_EQ(r1.rounds, 3);
+  EXPECT_EQ(r1.final_log_likelihood, r2.final_log_likelihood);
+  EXPECT_GT(r1.final_log_likelihood, r1.initial_log_likelihood);
+  EXPECT_EQ(max_position_error(x1, x2), 0.0);
+  for (std::size_t j = 0; j < m1.size(); ++j) EXPECT_EQ(m1[j], m2[j]);
+}
+
 constexpr int kBentDriveFrames = 400;
 constexpr double kBentDriveYawRad = 0.002;  ///< the bend's yaw at the drive's end
 

@@ -36,7 +36,8 @@ backend::StereoMlSlam::LandmarkList landmarks_in_view(const std::vector<io::MapP
 
 }  // namespace
 
-RefinementStage::RefinementStage(const StereoConfig& config, const StereoCalibration& calibration)
+RefinementStage::RefinementStage(const StereoConfig& config, const StereoCalibration& calibration,
+                                 std::function<bool()> stop)
     : settings_(config.refine),
       motion_(config.motion),
       model_(calibration, config.measurement),
@@ -47,6 +48,8 @@ RefinementStage::RefinementStage(const StereoConfig& config, const StereoCalibra
     loop_closing_.emplace(config.refine.loop, calibration);
   if (backend::StereoBatchMlSlam::supports(config.refine.ml))
     batch_solver_.emplace(motion_, model_, config.refine.final_pass_mlslam_config());
+  final_solver_.set_stop(stop);
+  if (batch_solver_) batch_solver_->set_stop(std::move(stop));
 }
 
 void RefinementStage::on_frame(const FrameOutcome& frame) {
@@ -138,6 +141,12 @@ void RefinementStage::on_finish(RunRecord& record) {
   stats["final_births"] = r.births;
   stats["final_deaths"] = r.deaths;
   stats["final_merges"] = r.merges;
+  if (r.stopped) {
+    stats["final_interrupted"] = 1.0;
+    record.interrupted = true;
+    spdlog::warn("refinement: final pass interrupted after {} rounds; the refined outputs hold its estimate",
+                 r.rounds);
+  }
   for (std::size_t i = 0; i < r.log_likelihood_per_round.size(); ++i)
     spdlog::debug("refinement: final pass round {}: log-likelihood {:.3f}", i + 1,
                   r.log_likelihood_per_round[i]);

@@ -8,8 +8,9 @@
 //           (older poses fixed); the landmarks start from the filter's current map, moved into the refined
 //           frame by the correction at the window's first pose; frames not yet refined follow the filter's
 //           motion from the last refined pose.
-//   final:  one solve over the whole run (`refine.final`) from the windows' trajectory, each landmark of the
-//           filter's final map moved with the refinement of the frame that mapped it
+//   final:  one solve over the whole run (`refine.final`; skipped when the run was interrupted, stopped at
+//           its next EM round when an interruption comes during it) from the windows' trajectory, each
+//           landmark of the filter's final map moved with the refinement of the frame that mapped it
 //           (`refine.final_start: windows`), or from the filter's final trajectory and map (`filter`). With
 //           measurement.pixel_sigma auto its σ is the median of the σ the filter used frame by frame (the
 //           frames whose σ was an estimate, not the initial value before enough residuals): the
@@ -18,6 +19,7 @@
 //           t_rel 0.257 % against 0.201 % with the median).
 // The stage uses only what the pipeline hands every stage (FrameOutcome): the filter's pose, trajectory, map
 // and its measurement sets and controls.
+#include <functional>
 #include <optional>
 #include <vector>
 
@@ -31,8 +33,11 @@ namespace glmbslam::app {
 
 class RefinementStage : public PipelineStage {
  public:
-  /// `config.refine` holds the settings; the config must outlive the stage.
-  RefinementStage(const StereoConfig& config, const StereoCalibration& calibration);
+  /// `config.refine` holds the settings; the config must outlive the stage. `stop` (may be empty) is asked
+  /// before every EM round of the final pass: when it says true (an interrupted run) the pass ends with its
+  /// last completed round's estimate and the record is marked interrupted.
+  RefinementStage(const StereoConfig& config, const StereoCalibration& calibration,
+                  std::function<bool()> stop = {});
 
   void on_frame(const FrameOutcome& frame) override;
   /// Sets record.refined_poses, record.refined_map and record.refinement (timings and solver counters).

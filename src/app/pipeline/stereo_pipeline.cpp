@@ -59,7 +59,9 @@ void StereoPipeline::run(RunRecord& record, const std::function<bool()>& stop) {
     for (auto& stage : stages_) stage->on_frame(outcome);
   }
   frames_done_ = k;
-  progress.finish();
+  record.frames_requested = frames;
+  record.interrupted = k < frames;  // the stages see it (the refinement skips its final pass)
+  progress.finish_at(k, record.interrupted ? "stopped" : "");
   record.wall_s = wall.elapsed_ms() / 1000.0;
   record.vo_fallbacks = vo_.fallbacks();
   record.missing_frames = vo_.missing();
