@@ -1,7 +1,7 @@
 #pragma once
 // report.html of `glmbslam run` on Victoria Park (eval/html_report.hpp): the estimated path and map
 // (coloured by existence) over the GPS fixes, the error against GPS over time, ESS and time per step, the
-// metrics.
+// metrics; with --refine ml the refined path, map and error beside the filter's.
 #include <string>
 #include <vector>
 
@@ -21,6 +21,11 @@ struct VictoriaParkReportInput {
   const std::vector<double>* error_m = nullptr;       ///< ‖p̂ − p_gps‖ of each
   const std::vector<double>* ess = nullptr;           ///< ESS / N per step
   const std::vector<double>* ms = nullptr;            ///< time per step [ms]
+  // --refine ml: the RFS-ML refinement beside the filter (refined_map null without it)
+  std::vector<double> refined_x, refined_y;
+  const std::vector<io::MapPoint>* refined_map = nullptr;
+  const std::vector<double>* refined_error_time_s = nullptr;
+  const std::vector<double>* refined_error_m = nullptr;
 };
 
 void write_victoria_park_report(const std::string& path, const VictoriaParkReportInput& input,

@@ -22,6 +22,11 @@
 //   map.txt          "x y existence" per landmark of the final map estimate; map.pcd the same as a PCD (z =
 //   0); trajectory.png   GPS fixes, estimated trajectory and map (like paper 003 Fig. 4);
 //   gps_errors.txt   "t error" per GPS fix used by position_rmse_m (scan time [s], ‖p̂ − p_gps‖ [m]).
+// With --refine ml these are the filter's, and the RFS-ML refinement (paper 004) adds trajectory_refined.txt,
+// map_refined.txt, map_refined.pcd, gps_errors_refined.txt (same formats) and a `refined` block in
+// metrics.json (position_rmse_m, gps_fixes_used, the raw-GPS pair, landmarks, solve_s, rounds, births,
+// deaths, merges, log_likelihood_gain, interrupted), with the refined path in trajectory.png and report.html.
+// With --algorithm mlslam (standalone RFS-ML from the odometry) the main outputs are the ML solution's.
 // SIGINT/SIGTERM stop the filter at the next scan: the outputs cover the steps done (no refinement),
 // metrics.json says "interrupted": true (with frames_requested), and the exit code is 130/143
 // (core/interrupt.hpp). During the RFS-ML solve they stop it at its next EM round: the outputs hold the last
@@ -30,6 +35,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -94,6 +100,13 @@ double landmark_existence(const backend::GmPhdComponent<Meas>& c) {
   return c.weight;
 }
 
+/// --refine ml: the RFS-ML refinement of the filter's estimate, kept beside it.
+struct RefinedEstimate {
+  std::vector<Motion::State, Eigen::aligned_allocator<Motion::State>> poses;
+  std::vector<io::MapPoint> map;
+  backend::MlSlamReport report;
+};
+
 struct RunRecord {
   std::vector<Motion::State, Eigen::aligned_allocator<Motion::State>> poses;
   std::vector<double> ms, ess;
@@ -102,6 +115,7 @@ struct RunRecord {
   std::size_t steps_requested = 0;      ///< steps of the run; more than poses.size() when interrupted
   bool refinement_interrupted = false;  ///< the RFS-ML solve was stopped early (its last round's estimate)
   std::vector<io::MapPoint> map;
+  std::optional<RefinedEstimate> refined;  ///< --refine ml
 };
 
 template <class Filter>
@@ -134,39 +148,81 @@ RunRecord run_filter(Filter& filter, const std::vector<Motion::Control>& control
   return rec;
 }
 
-/// --algorithm mlslam / --refine ml: the RFS-ML solution replaces the record's trajectory and map.
+/// --algorithm mlslam: the RFS-ML solution replaces the (dead-reckoning) record's trajectory and map;
+/// --refine ml: the refinement of the filter's estimate goes beside it (rec.refined).
 void refine_record(const Motion& motion, const Meas& model, const VictoriaParkConfig& cfg,
                    const std::vector<Motion::Control>& controls,
                    const std::vector<VpMeasurementSet>& measurements, RunRecord& rec) {
+  const bool standalone = cfg.algorithm == "mlslam";
   VpPoseList poses(rec.poses.begin(), rec.poses.end());
   std::vector<Eigen::Vector2d> map;
   for (const auto& p : rec.map) map.push_back(p.position.head<2>());
+  if (!standalone)
+    spdlog::info("Victoria Park: RFS-ML refinement of {} steps, {} landmarks", poses.size(), map.size());
   const backend::MlSlamReport r = solve_victoria_park_ml(
-      motion, model, cfg.ml, cfg.initial_pose, controls, measurements, cfg.algorithm == "mlslam",
+      motion, model, cfg.ml, cfg.initial_pose, controls, measurements, standalone,
       [] { return interrupt_requested(); }, poses, map);
-  rec.total_s += r.ms / 1000.0;
   rec.refinement_interrupted = r.stopped;
-  rec.poses.assign(poses.begin(), poses.end());
-  rec.map.clear();
+  RefinedEstimate out;
+  out.report = r;
+  out.poses.assign(poses.begin(), poses.end());
   for (const auto& m : map) {
     io::MapPoint p;
     p.position = Eigen::Vector3d(m(0), m(1), 0.0);
-    p.label = rec.map.size();
+    p.label = out.map.size();
     p.existence = 1.0;
-    rec.map.push_back(p);
+    out.map.push_back(p);
   }
+  if (standalone) {
+    rec.total_s += r.ms / 1000.0;
+    rec.poses = std::move(out.poses);
+    rec.map = std::move(out.map);
+  } else {
+    rec.refined = std::move(out);
+  }
+}
+
+/// One estimate's files: trajectory<suffix>.txt, map<suffix>.txt / .pcd, gps_errors<suffix>.txt.
+void write_estimate_files(const std::filesystem::path& out, const std::string& suffix,
+                          const std::vector<double>& times,
+                          const std::vector<Motion::State, Eigen::aligned_allocator<Motion::State>>& poses,
+                          const std::vector<io::MapPoint>& landmarks, const GpsErrors& err) {
+  std::ostringstream traj;
+  traj.precision(10);
+  for (std::size_t k = 0; k < poses.size(); ++k)
+    traj << times[k] << ' ' << poses[k](0) << ' ' << poses[k](1) << ' ' << poses[k](2) << '\n';
+  write_text_file_atomically(out / ("trajectory" + suffix + ".txt"),
+                             [&](std::ostream& os) { os << traj.str(); });
+  std::ostringstream map;
+  map.precision(10);
+  for (const auto& p : landmarks)
+    map << p.position.x() << ' ' << p.position.y() << ' ' << p.existence << '\n';
+  write_text_file_atomically(out / ("map" + suffix + ".txt"), [&](std::ostream& os) { os << map.str(); });
+  std::ostringstream errors;
+  errors.precision(10);
+  for (std::size_t i = 0; i < err.error_m.size(); ++i)
+    errors << err.scan_time[i] << ' ' << err.error_m[i] << '\n';
+  write_text_file_atomically(out / ("gps_errors" + suffix + ".txt"),
+                             [&](std::ostream& os) { os << errors.str(); });
+  io::write_pcd_map((out / ("map" + suffix + ".pcd")).string(), landmarks);
+}
+
+Vec2List positions_of(const std::vector<Motion::State, Eigen::aligned_allocator<Motion::State>>& poses) {
+  Vec2List positions;
+  for (const auto& p : poses) positions.push_back(p.head<2>());
+  return positions;
 }
 
 void write_outputs(const std::filesystem::path& out, const VictoriaParkConfig& cfg, const RunOptions& options,
                    const io::VictoriaParkData& data, const std::vector<io::GpsFix>& gps,
                    const std::vector<double>& times, const RunRecord& rec, const io::GpsFilterResult& filt) {
   ensure_writable_directory(out);
-  Vec2List positions;
-  for (const auto& p : rec.poses) positions.push_back(p.head<2>());
+  const Vec2List positions = positions_of(rec.poses);
   const GpsErrors err = gps_errors(gps, times, positions, cfg.gps_match_window_s);
   std::vector<io::GpsFix> raw = data.gps_raw;
   std::stable_sort(raw.begin(), raw.end(), [](const auto& a, const auto& b) { return a.time_s < b.time_s; });
   const GpsErrors err_raw = gps_errors(raw, times, positions, cfg.gps_match_window_s);
+  GpsErrors err_refined;
   const SampleSummary ms = summarize(rec.ms);
   double ess_mean = 0.0;
   for (double e : rec.ess) ess_mean += e;
@@ -205,32 +261,52 @@ void write_outputs(const std::filesystem::path& out, const VictoriaParkConfig& c
   j["resampling_percent"] = frames > 0 ? 100.0 * rec.resamples / frames : 0.0;
   j["map"] = {{"landmarks", rec.map.size()}};
   j["clutter_rate"] = cfg.clutter_rate;
+  if (rec.refined) {
+    const RefinedEstimate& r = *rec.refined;
+    const Vec2List refined_positions = positions_of(r.poses);
+    err_refined = gps_errors(gps, times, refined_positions, cfg.gps_match_window_s);
+    const GpsErrors refined_raw = gps_errors(raw, times, refined_positions, cfg.gps_match_window_s);
+    j["refined"] = {{"position_rmse_m", finite_or_null(err_refined.rmse_m)},
+                    {"gps_fixes_used", err_refined.error_m.size()},
+                    {"position_rmse_raw_gps_m", finite_or_null(refined_raw.rmse_m)},
+                    {"gps_fixes_used_raw", refined_raw.error_m.size()},
+                    {"landmarks", r.map.size()},
+                    {"solve_s", r.report.ms / 1000.0},
+                    {"rounds", r.report.rounds},
+                    {"births", r.report.births},
+                    {"deaths", r.report.deaths},
+                    {"merges", r.report.merges},
+                    {"log_likelihood_gain", r.report.final_log_likelihood - r.report.initial_log_likelihood},
+                    {"interrupted", r.report.stopped}};
+  }
   eval::write_json_file((out / "metrics.json").string(), j);
-  VictoriaParkReportInput report{&gps, {}, {}, &rec.map, &err.scan_time, &err.error_m, &rec.ess, &rec.ms};
+  VictoriaParkReportInput report;
+  report.gps = &gps;
+  report.map = &rec.map;
+  report.error_time_s = &err.scan_time;
+  report.error_m = &err.error_m;
+  report.ess = &rec.ess;
+  report.ms = &rec.ms;
   for (const auto& p : rec.poses) report.x.push_back(p(0)), report.y.push_back(p(1));
+  if (rec.refined) {
+    report.refined_map = &rec.refined->map;
+    report.refined_error_m = &err_refined.error_m;
+    report.refined_error_time_s = &err_refined.scan_time;
+    for (const auto& p : rec.refined->poses)
+      report.refined_x.push_back(p(0)), report.refined_y.push_back(p(1));
+  }
   write_victoria_park_report((out / "report.html").string(), report, j);
 
-  std::ostringstream traj;
-  traj.precision(10);
-  for (std::size_t k = 0; k < rec.poses.size(); ++k)
-    traj << times[k] << ' ' << rec.poses[k](0) << ' ' << rec.poses[k](1) << ' ' << rec.poses[k](2) << '\n';
-  write_text_file_atomically(out / "trajectory.txt", [&](std::ostream& os) { os << traj.str(); });
-  std::ostringstream map;
-  map.precision(10);
-  for (const auto& p : rec.map) map << p.position.x() << ' ' << p.position.y() << ' ' << p.existence << '\n';
-  write_text_file_atomically(out / "map.txt", [&](std::ostream& os) { os << map.str(); });
-  std::ostringstream errors;
-  errors.precision(10);
-  for (std::size_t i = 0; i < err.error_m.size(); ++i)
-    errors << err.scan_time[i] << ' ' << err.error_m[i] << '\n';
-  write_text_file_atomically(out / "gps_errors.txt", [&](std::ostream& os) { os << errors.str(); });
-  io::write_pcd_map((out / "map.pcd").string(), rec.map);
+  write_estimate_files(out, "", times, rec.poses, rec.map, err);
+  if (rec.refined)
+    write_estimate_files(out, "_refined", times, rec.refined->poses, rec.refined->map, err_refined);
 
   if (cfg.write_plot) {
+    auto metres = [](double v) { return std::isfinite(v) ? std::to_string(v).substr(0, 5) + " m" : "n/a"; };
     eval::LinePlot plot("Victoria Park: " + cfg.algorithm +
                             ", N = " + std::to_string(static_cast<int>(j["particles"])) + ", position RMSE " +
-                            (std::isfinite(err.rmse_m) ? std::to_string(err.rmse_m).substr(0, 5) : "n/a") +
-                            " m",
+                            metres(err.rmse_m) +
+                            (rec.refined ? ", refined " + metres(err_refined.rmse_m) : ""),
                         "x (m)", "y (m)");
     std::vector<double> gx, gy, ex, ey, mx, my;
     for (const auto& f : gps) {
@@ -246,8 +322,14 @@ void write_outputs(const std::filesystem::path& out, const VictoriaParkConfig& c
       my.push_back(p.position.y());
     }
     plot.add_series(gx, gy, eval::colours::kBlack, "GPS", eval::SeriesStyle::kMarkers, 1);
-    plot.add_series(ex, ey, eval::colours::kRed, "estimate", eval::SeriesStyle::kLine, 2);
+    plot.add_series(ex, ey, eval::colours::kRed, rec.refined ? "filter" : "estimate",
+                    eval::SeriesStyle::kLine, 2);
     if (!mx.empty()) plot.add_series(mx, my, eval::colours::kBlue, "map", eval::SeriesStyle::kMarkers, 2);
+    if (rec.refined) {
+      std::vector<double> rx, ry;
+      for (const auto& p : rec.refined->poses) rx.push_back(p(0)), ry.push_back(p(1));
+      plot.add_series(rx, ry, eval::colours::kGreen, "refined (RFS-ML)", eval::SeriesStyle::kLine, 2);
+    }
     plot.set_equal_aspect(true);
     plot.save_png((out / "trajectory.png").string(), 1000, 1000);
   }
@@ -257,6 +339,12 @@ void write_outputs(const std::filesystem::path& out, const VictoriaParkConfig& c
       cfg.algorithm.c_str(), static_cast<int>(j["particles"]), static_cast<unsigned long long>(cfg.rbpf.seed),
       rec.poses.size(), err.rmse_m, err.error_m.size(), ms.mean, ms.stddev, rec.total_s, 100.0 * ess_mean,
       j["resampling_percent"].get<double>(), rec.map.size());
+  if (rec.refined)
+    std::printf(
+        "victoria_park refined (RFS-ML): position RMSE %.3f m (%zu GPS fixes), %zu landmarks, %d EM rounds, "
+        "%.2f s%s\n",
+        err_refined.rmse_m, err_refined.error_m.size(), rec.refined->map.size(), rec.refined->report.rounds,
+        rec.refined->report.ms / 1000.0, rec.refined->report.stopped ? " (stopped early)" : "");
   std::fflush(stdout);
 }
 

@@ -1,8 +1,10 @@
 // Victoria Park pipeline: odometry → per-scan controls (zero-order hold), detections in the vehicle frame,
 // seeded clutter, GPS error matching, the config file = the defaults in code, and runs on the real data
 // (dead reckoning over the whole dataset, δ-GLMB-SLAM on a prefix).
+#include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <iterator>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -177,6 +179,51 @@ TEST(VictoriaParkRun, DeadReckoningOverTheWholeDatasetDriftsAndSlamOnAPrefixTrac
     EXPECT_TRUE(std::filesystem::exists(dir / "glmb2" / f)) << f;
   const nlohmann::json mh = run(data, dir / "mh", "glmb-mh", 300);
   EXPECT_LT(mh["position_rmse_m"].get<double>(), 2.5);
+  std::filesystem::remove_all(dir);
+}
+
+// --refine ml keeps the filter's outputs and writes the refinement beside them: a refined block in
+// metrics.json evaluated against the same GPS fixes, and the refined trajectory, map and errors.
+TEST(VictoriaParkRun, RefinementIsWrittenBesideTheFilter) {
+  GLMBSLAM_REQUIRE_DATA(data, "victoria_park");
+  const auto dir = test::fresh_temp_dir("vp_refine");
+  const nlohmann::json filter = run(data, dir / "filter", "glmb2", 200);
+  RunOptions o;
+  o.dataset = data.string();
+  o.out_dir = (dir / "refined").string();
+  o.algorithm = "glmb2";
+  o.particles = 1;
+  o.seed = 0;
+  o.last_frame = 200;
+  o.refine = "ml";
+  ASSERT_EQ(run_victoria_park(o), 0);
+  std::ifstream in(dir / "refined" / "metrics.json");
+  const nlohmann::json m = nlohmann::json::parse(in);
+  // the filter's figures are those of the run without refinement
+  EXPECT_EQ(m["position_rmse_m"], filter["position_rmse_m"]);
+  EXPECT_EQ(m["map"]["landmarks"], filter["map"]["landmarks"]);
+  EXPECT_EQ(m["refine"], "ml");
+  EXPECT_FALSE(m["interrupted"].get<bool>());
+  ASSERT_TRUE(m.contains("refined"));
+  const nlohmann::json& r = m["refined"];
+  EXPECT_EQ(r["gps_fixes_used"], m["gps_fixes_used"]);
+  EXPECT_GT(r["rounds"].get<int>(), 0);
+  EXPECT_GT(r["log_likelihood_gain"].get<double>(), 0.0);
+  EXPECT_FALSE(r["interrupted"].get<bool>());
+  EXPECT_LT(r["position_rmse_m"].get<double>(), 2.5);
+  EXPECT_GT(r["landmarks"].get<int>(), 20);
+  for (const char* f : {"trajectory.txt", "map.txt", "map.pcd", "gps_errors.txt", "trajectory_refined.txt",
+                        "map_refined.txt", "map_refined.pcd", "gps_errors_refined.txt", "report.html"})
+    EXPECT_TRUE(std::filesystem::exists(dir / "refined" / f)) << f;
+  auto read = [](const std::filesystem::path& p) {
+    std::ifstream f(p);
+    return std::string(std::istreambuf_iterator<char>(f), {});
+  };
+  // trajectory.txt is the filter's, trajectory_refined.txt one line per step as well, and different
+  EXPECT_EQ(read(dir / "refined" / "trajectory.txt"), read(dir / "filter" / "trajectory.txt"));
+  const std::string refined = read(dir / "refined" / "trajectory_refined.txt");
+  EXPECT_EQ(std::count(refined.begin(), refined.end(), '\n'), 200);
+  EXPECT_NE(refined, read(dir / "filter" / "trajectory.txt"));
   std::filesystem::remove_all(dir);
 }
 

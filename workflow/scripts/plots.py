@@ -146,8 +146,12 @@ def versus_particles(rows, path, value_of, ylabel, title):
 
 
 def error_value(r):
+    """The run's final estimate: the refined one with --refine (sim writes it as position_rmse_m)."""
+    refined = r.get("refine", "none") not in ("none", "", None)
     if is_stereo(r):
-        return num(r.get("slam.ate.se3_rmse_m"))
+        return num(r.get("refined.ate.se3_rmse_m" if refined else "slam.ate.se3_rmse_m"))
+    if refined and num(r.get("refined.position_rmse_m")) is not None:
+        return num(r.get("refined.position_rmse_m"))
     return num(r.get("position_rmse_m"))
 
 
