@@ -25,8 +25,8 @@ std::string summary_cell(const json& s) {
 }  // namespace
 
 void write_sim_report(const std::string& path, const json& m, const sim::Scenario2D& scenario,
-                      const std::vector<Eigen::Vector3d>& estimates,
-                      const std::vector<Eigen::Vector2d>& map) {
+                      const std::vector<Eigen::Vector3d>& estimates, const std::vector<Eigen::Vector2d>& map,
+                      const std::vector<Eigen::Vector3d>& filter_estimates) {
   const int first_run = m.value("first_run", 0);
   const int runs = m.value("runs", 1);
   eval::HtmlReport report("glmbslam sim: " + m.value("scenario", std::string()) + ", " +
@@ -46,6 +46,13 @@ void write_sim_report(const std::string& path, const json& m, const sim::Scenari
   if (m.contains("ospa"))
     headline.push_back(
         {"map OSPA, mean over steps [m]", eval::format_number(m["ospa"].value("mean_over_steps_m", 0.0), 4)});
+  if (m.contains("ml") && m["ml"].contains("filter_position_rmse_per_run_m")) {
+    headline.push_back({"filter before the refinement: position RMSE per run [m]",
+                        summary_cell(m["ml"]["filter_position_rmse_per_run_m"])});
+    if (m["ml"].contains("filter_gospa_m"))
+      headline.push_back(
+          {"filter before the refinement: final map GOSPA [m]", summary_cell(m["ml"]["filter_gospa_m"])});
+  }
   report.add_table("Summary (mean ± standard deviation over the runs)", {"metric", "value"}, headline);
 
   // Per-run table.
@@ -53,14 +60,28 @@ void write_sim_report(const std::string& path, const json& m, const sim::Scenari
   const std::vector<double> gospa = m.contains("gospa")
                                         ? numbers(m["gospa"].value("distance_each_run_m", json::array()))
                                         : std::vector<double>();
+  const json ml = m.value("ml", json::object());
+  const std::vector<double> filter_rmse = numbers(ml.value("filter_position_rmse_each_run_m", json::array()));
+  const std::vector<double> filter_gospa = numbers(ml.value("filter_gospa_each_run_m", json::array()));
+  const bool refined = !filter_rmse.empty();
+  auto cell = [](const std::vector<double>& v, std::size_t i) {
+    return i < v.size() ? eval::format_number(v[i], 4) : std::string("–");
+  };
   std::vector<std::vector<std::string>> per_run;
   for (std::size_t i = 0; i < rmse.size(); ++i) {
-    per_run.push_back({std::to_string(first_run + static_cast<int>(i)), eval::format_number(rmse[i], 4),
-                       i < gospa.size() ? eval::format_number(gospa[i], 4) : "–"});
+    std::vector<std::string> row = {std::to_string(first_run + static_cast<int>(i)), cell(rmse, i),
+                                    cell(gospa, i)};
+    if (refined) row.push_back(cell(filter_rmse, i)), row.push_back(cell(filter_gospa, i));
+    per_run.push_back(row);
   }
   report.add_section("Per run");
-  report.add_table("Position RMSE and final-map GOSPA of each run (run index = data realisation)",
-                   {"run", "position RMSE [m]", "GOSPA [m]"}, per_run);
+  std::vector<std::string> columns = {"run", "position RMSE [m]", "GOSPA [m]"};
+  if (refined) {
+    columns = {"run", "refined position RMSE [m]", "refined GOSPA [m]", "filter position RMSE [m]",
+               "filter GOSPA [m]"};
+  }
+  report.add_table("Position RMSE and final-map GOSPA of each run (run index = data realisation)", columns,
+                   per_run);
   const std::vector<double> run_axis = eval::index_axis(rmse.size(), static_cast<double>(first_run));
   json per_run_traces = json::array({eval::line_trace("position RMSE [m]", run_axis, rmse, colours::kSlam)});
   if (!gospa.empty())
@@ -71,13 +92,20 @@ void write_sim_report(const std::string& path, const json& m, const sim::Scenari
   report.add_section("Trajectory and map of run " + std::to_string(first_run));
   eval::ReportSeries2D gt{"ground truth", {}, {}, colours::kGroundTruth, false};
   for (const auto& p : scenario.poses) gt.x.push_back(p(0)), gt.y.push_back(p(1));
-  eval::ReportSeries2D est{"estimate", {}, {}, colours::kSlam, false};
+  eval::ReportSeries2D est{
+      refined ? "refined (RFS-ML)" : "estimate", {}, {}, refined ? colours::kRefined : colours::kSlam, false};
   for (const auto& p : estimates) est.x.push_back(p(0)), est.y.push_back(p(1));
+  eval::ReportSeries2D filter{"filter", {}, {}, colours::kSlam, false};
+  for (const auto& p : filter_estimates) filter.x.push_back(p(0)), filter.y.push_back(p(1));
   eval::ReportSeries2D lm{"true landmarks", {}, {}, colours::kGroundTruth, true};
   for (const auto& l : scenario.landmarks) lm.x.push_back(l(0)), lm.y.push_back(l(1));
   eval::ReportSeries2D mp{"map estimate", {}, {}, colours::kRed, true};
   for (const auto& l : map) mp.x.push_back(l(0)), mp.y.push_back(l(1));
-  eval::add_plane_view(report, "Trajectory and map (top view)", {}, {lm, gt, est, mp});
+  std::vector<eval::ReportSeries2D> top = {lm, gt};
+  if (!filter_estimates.empty()) top.push_back(filter);
+  top.push_back(est);
+  top.push_back(mp);
+  eval::add_plane_view(report, "Trajectory and map (top view)", {}, top);
 
   report.add_section("Over time", "RMSE over the runs at each step.");
   const json& per_step = m["rmse_per_step"];

@@ -12,8 +12,10 @@
 namespace glmbslam::app {
 
 /// `metrics` is the metrics.json of run_simulation; `estimates` (x, y, θ per step) and `map` are those of
-/// the first run, on `scenario` (its ground truth).
+/// the first run, on `scenario` (its ground truth); with --refine ml `filter_estimates` are the filter's
+/// (drawn beside the refined path; empty otherwise) and the per-run table gives the filter's errors too.
 void write_sim_report(const std::string& path, const nlohmann::json& metrics, const sim::Scenario2D& scenario,
-                      const std::vector<Eigen::Vector3d>& estimates, const std::vector<Eigen::Vector2d>& map);
+                      const std::vector<Eigen::Vector3d>& estimates, const std::vector<Eigen::Vector2d>& map,
+                      const std::vector<Eigen::Vector3d>& filter_estimates = {});
 
 }  // namespace glmbslam::app

@@ -60,7 +60,9 @@ struct RunRecord {
   eval::GospaResult final_gospa;
   int final_cardinality_error = 0;
   double filter_position_rmse = 0.0;  ///< --refine ml: the filter's, before the refinement
-  double ml_ms = 0.0;                 ///< --refine ml / mlslam: wall time of the ML solve
+  double filter_gospa = 0.0;          ///< --refine ml: the filter's final-map GOSPA distance (phdslam3)
+  std::vector<Eigen::Vector3d> filter_estimates;  ///< --refine ml: the filter's per-step estimates
+  double ml_ms = 0.0;                             ///< --refine ml / mlslam: wall time of the ML solve
 };
 
 /// Ground-truth landmarks seen (in the field of view of the true pose) at any step ≤ k, for every k.
@@ -143,13 +145,15 @@ RunRecord drive(Slam& slam, const sim::Scenario2D& s, const std::vector<std::vec
 }
 
 /// An ML solution (standalone or refinement) as the run's estimate; an interrupted solve ends the run as an
-/// interrupted filter step does.
+/// interrupted filter step does. A refinement keeps the filter's estimate and scores beside it.
 void apply_ml(RunRecord& rec, const MlSimResult& ml, const sim::Scenario2D& s,
-              const std::vector<std::vector<int>>& seen) {
+              const std::vector<std::vector<int>>& seen, bool refinement) {
   if (ml.interrupted) throw RunInterrupted{};
   double se = 0.0;
   for (std::size_t k = 1; k < s.steps(); ++k) se += (rec.estimates[k] - s.poses[k]).head<2>().squaredNorm();
   rec.filter_position_rmse = std::sqrt(se / static_cast<double>(std::max<std::size_t>(s.steps() - 1, 1)));
+  rec.filter_gospa = rec.final_gospa.distance;
+  if (refinement) rec.filter_estimates = rec.estimates;
   rec.estimates = ml.poses;
   rec.final_map = ml.map;
   rec.ml_ms = ml.ms;
@@ -240,13 +244,13 @@ RunRecord run_filter(const Motion& motion, const RangeBearingModel& model, const
   if (o.algorithm == "mlslam") {
     RunRecord rec;
     rec.estimates.assign(s.steps(), s.initial_pose());
-    apply_ml(rec, run_mlslam(motion, model, s, f.ml), s, seen);
+    apply_ml(rec, run_mlslam(motion, model, s, f.ml), s, seen, false);
     rec.ms.assign(s.steps() - 1, rec.ml_ms / static_cast<double>(std::max<std::size_t>(s.steps() - 1, 1)));
     return rec;
   }
   RunRecord rec = run_recursive_filter(motion, model, s, o, f, run, seen);
   if (o.refine == "ml")
-    apply_ml(rec, refine_ml(motion, model, s, f.ml, rec.estimates, rec.final_map), s, seen);
+    apply_ml(rec, refine_ml(motion, model, s, f.ml, rec.estimates, rec.final_map), s, seen, true);
   return rec;
 }
 
@@ -354,7 +358,13 @@ void write_plots(const std::filesystem::path& dir, const sim::Scenario2D& s0, co
     for (const auto& l : s0.landmarks) lx.push_back(l(0)), ly.push_back(l(1));
     for (const auto& m : r0.final_map) mx.push_back(m(0)), my.push_back(m(1));
     plot.add_series(gx, gy, eval::colours::kBlue, "ground truth");
-    plot.add_series(ex, ey, eval::colours::kRed, "estimate");
+    if (!r0.filter_estimates.empty()) {
+      std::vector<double> fx, fy;
+      for (const auto& p : r0.filter_estimates) fx.push_back(p(0)), fy.push_back(p(1));
+      plot.add_series(fx, fy, eval::colours::kOrange, "filter");
+    }
+    plot.add_series(ex, ey, eval::colours::kRed,
+                    r0.filter_estimates.empty() ? "estimate" : "refined (RFS-ML)");
     plot.add_series(lx, ly, eval::colours::kBlack, "landmarks", eval::SeriesStyle::kMarkers);
     plot.add_series(mx, my, eval::colours::kRed, "map estimate", eval::SeriesStyle::kMarkers);
     plot.set_equal_aspect(true);
@@ -617,11 +627,21 @@ json run_simulation(const SimOptions& options) {
   }
   m["cardinality_error"] = json{{"mean", mean_of(card_err)}, {"mean_abs", mean_of(abs_card)}};
   if (o.refine == "ml" || o.algorithm == "mlslam") {
-    std::vector<double> filter_rmse, ml_ms;
-    for (const auto& rec : records)
-      filter_rmse.push_back(rec.filter_position_rmse), ml_ms.push_back(rec.ml_ms);
+    std::vector<double> filter_rmse, filter_gospa, ml_ms;
+    for (const auto& rec : records) {
+      filter_rmse.push_back(rec.filter_position_rmse);
+      filter_gospa.push_back(rec.filter_gospa);
+      ml_ms.push_back(rec.ml_ms);
+    }
     m["ml"] = json{{"ms_per_run", summary_json(ml_ms)}};
-    if (o.refine == "ml") m["ml"]["filter_position_rmse_per_run_m"] = summary_json(filter_rmse);
+    if (o.refine == "ml") {
+      m["ml"]["filter_position_rmse_per_run_m"] = summary_json(filter_rmse);
+      m["ml"]["filter_position_rmse_each_run_m"] = filter_rmse;
+      if (m.contains("gospa")) {
+        m["ml"]["filter_gospa_m"] = summary_json(filter_gospa);
+        m["ml"]["filter_gospa_each_run_m"] = filter_gospa;
+      }
+    }
     m["refine"] = o.refine;
   }
   m["ms_per_step"] = summary_json(ms_all);
@@ -630,7 +650,8 @@ json run_simulation(const SimOptions& options) {
       steps_total > 0 ? 100.0 * static_cast<double>(resampled) / static_cast<double>(steps_total) : 0.0;
   if (o.plots) write_plots(dir, s0, records[0], rmse_x, rmse_y, rmse_h, ospa_mean, o);
   eval::write_json_file((dir / "metrics.json").string(), m);
-  write_sim_report((dir / "report.html").string(), m, s0, records[0].estimates, records[0].final_map);
+  write_sim_report((dir / "report.html").string(), m, s0, records[0].estimates, records[0].final_map,
+                   records[0].filter_estimates);
   return m;
 }
 
@@ -649,6 +670,13 @@ std::string summarize_simulation(const json& m) {
   if (m.contains("gospa")) s << ", GOSPA " << m["gospa"]["distance_m"]["mean"].get<double>() << " m";
   s << ", " << m["ms_per_step"]["mean"].get<double>() << " ms/step, ESS " << m["ess_percent"].get<double>()
     << " %, resampling " << m["resampling_percent"].get<double>() << " %";
+  if (m.contains("ml") && m["ml"].contains("filter_position_rmse_per_run_m")) {
+    s << "; per run: refined position RMSE " << m["position_rmse_per_run_m"]["mean"].get<double>()
+      << " m, the filter's " << m["ml"]["filter_position_rmse_per_run_m"]["mean"].get<double>() << " m";
+    if (m["ml"].contains("filter_gospa_m"))
+      s << ", GOSPA refined " << m["gospa"]["distance_m"]["mean"].get<double>() << " m, the filter's "
+        << m["ml"]["filter_gospa_m"]["mean"].get<double>() << " m";
+  }
   if (m.value("interrupted", false))
     s << " (interrupted: " << m["runs"].get<int>() << " of " << m["runs_requested"].get<int>() << " runs)";
   return s.str();

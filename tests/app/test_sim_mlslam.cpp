@@ -57,6 +57,13 @@ TEST(SimMlSlam, RefinementDoesNotWorsenTheFilter) {
   const double filter = m["ml"]["filter_position_rmse_per_run_m"]["mean"].get<double>();
   EXPECT_LE(m["position_rmse_per_run_m"]["mean"].get<double>(), filter);
   EXPECT_EQ(m["refine"], "ml");
+  // the filter's per-run figures beside the refined ones are those of the same runs without refinement
+  SimOptions plain = o;
+  plain.refine.clear();
+  plain.out_dir = (dir / "plain").string();
+  const nlohmann::json p = run_simulation(plain);
+  EXPECT_EQ(m["ml"]["filter_position_rmse_each_run_m"], p["position_rmse_each_run_m"]);
+  EXPECT_FALSE(p.contains("ml"));
 }
 
 }  // namespace
