@@ -56,7 +56,9 @@ void register_run_command(CLI::App& app) {
   cmd->add_option("--seed", *seed, "random seed (overrides rbpf.seed)");
   cmd->add_option(
       "--refine", options->refine,
-      "ml: refine the filter's trajectory and map by RFS maximum likelihood (paper 004; Victoria Park)");
+      "ml: refine the filter's trajectory and map by RFS maximum likelihood (paper 004): stereo and Victoria "
+      "Park; the refined outputs (trajectory_refined.txt, map_refined.*, metrics.json `refined`) go beside "
+      "the filter's");
   cmd->add_option("--algorithm", *algorithm,
                   "stereo: glmb2 (optimal kernel, default), glmb1 (prior proposal), lmb / lmb1 (LMB-SLAM, "
                   "optimal / prior proposal), vo (frontend only); "

@@ -16,7 +16,10 @@ void register_sim_command(CLI::App& app) {
                   "paper2019, phdslam3, paper004 (paper 004's small 2D problem) or paper004_1d (its 1D "
                   "problem; --algorithm mlslam only)")
       ->capture_default_str();
-  cmd->add_option("--refine", options->refine, "ml: refine the filter's estimate by RFS maximum likelihood");
+  cmd->add_option(
+      "--refine", options->refine,
+      "ml: refine the filter's estimate by RFS maximum likelihood (the run's figures are then the "
+      "refined ones; metrics.json `ml` keeps the filter's)");
   cmd->add_option(
          "--algorithm", options->algorithm,
          "glmb2 (δ-GLMB-SLAM 2.0), glmb1 (1.0), glmb_mh (δ-GLMB map with the multi-hypothesis "
