@@ -366,11 +366,12 @@ void write_plots(const std::filesystem::path& dir, const sim::Scenario2D& s0, co
     for (const auto& p : r0.estimates) ex.push_back(p(0)), ey.push_back(p(1));
     for (const auto& l : s0.landmarks) lx.push_back(l(0)), ly.push_back(l(1));
     for (const auto& m : r0.final_map) mx.push_back(m(0)), my.push_back(m(1));
-    plot.add_series(gx, gy, eval::colours::kBlue, "ground truth");
+    // drawn widest first, so the paths on top of each other stay visible
+    plot.add_series(gx, gy, eval::colours::kBlue, "ground truth", eval::SeriesStyle::kLine, 6);
     if (!r0.filter_estimates.empty()) {
       std::vector<double> fx, fy;
       for (const auto& p : r0.filter_estimates) fx.push_back(p(0)), fy.push_back(p(1));
-      plot.add_series(fx, fy, eval::colours::kOrange, "filter");
+      plot.add_series(fx, fy, eval::colours::kOrange, "filter", eval::SeriesStyle::kLine, 4);
     }
     plot.add_series(ex, ey, eval::colours::kRed,
                     r0.filter_estimates.empty() ? "estimate" : "refined (RFS-ML)");
