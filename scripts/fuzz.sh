@@ -45,6 +45,8 @@ for t in "${targets[@]}"; do
     -rss_limit_mb=2048 -max_len=65536 -print_final_stats=1 -artifact_prefix="$artifacts/$t-" >"$log" 2>&1; then
     result="FAILED (see $log)"
     status=1
+    # the report itself, so a CI log shows the cause without the build folder
+    sed -n '/ERROR: \|SUMMARY: \|runtime error: \|terminate called/,$p' "$log" | grep -v '^HDF5-DIAG\|^  *#0[0-9][0-9] in H5\|^    m[ai][jn]or:' | head -60 >&2
   fi
   execs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -1)
   cov=$(grep -o 'cov: [0-9]*' "$log" | tail -1 | cut -d' ' -f2)

@@ -18,6 +18,8 @@ namespace {
 // Data types and array classes of the level-5 format.
 constexpr std::uint32_t kMiInt8 = 1, kMiInt32 = 5, kMiUint32 = 6, kMiMatrix = 14, kMiCompressed = 15;
 constexpr std::uint32_t kCell = 1, kStruct = 2, kObject = 3, kSparse = 5;
+// Array flag bits (the second byte of the flags' first word).
+constexpr std::uint32_t kComplex = 0x0800, kGlobal = 0x0400, kLogical = 0x0200;
 constexpr int kMaxDepth = 32;  // nesting of cells / structs
 // zlib's largest expansion is about 1032:1; an element inflating to more is corrupt.
 constexpr std::uint64_t kMaxInflation = 1032;
@@ -71,20 +73,80 @@ class Walker {
     return e;
   }
 
-  /// An miMATRIX element's contents: array flags, dimensions, name, then data or nested arrays.
+  /// Bytes per value of a numeric data type; 0 for a type that holds no values (miMATRIX, miCOMPRESSED,
+  /// the reserved 8, 10, 11, or unknown).
+  static std::uint64_t value_size(std::uint32_t type) {
+    switch (type) {
+      case 1:
+      case 2:
+      case 16:
+        return 1;  // miINT8, miUINT8, miUTF8
+      case 3:
+      case 4:
+      case 17:
+        return 2;  // miINT16, miUINT16, miUTF16
+      case 5:
+      case 6:
+      case 7:
+      case 18:
+        return 4;  // miINT32, miUINT32, miSINGLE, miUTF32
+      case 9:
+      case 12:
+      case 13:
+        return 8;  // miDOUBLE, miINT64, miUINT64
+      default:
+        return 0;
+    }
+  }
+
+  /// The element at `pos`, which must end (padding included) within `len`: libmatio reads an array's parts
+  /// one after the other, so a part overrunning its array would be read from the bytes that follow.
+  Element part(const std::uint8_t* buf, std::uint64_t len, std::uint64_t pos, const char* what) const {
+    const Element e = element(buf, len, pos, what);
+    const bool small = e.data == buf + pos + 4;
+    // element() bounds the size by the bytes that remain; its padding to 8 bytes must fit too
+    if (!small && (e.size + 7) / 8 * 8 > len - pos - 8)
+      fail(std::string(what) + " overruns what contains it");
+    return e;
+  }
+
+  /// A numeric part holding exactly `count` values (a UTF-8 char array: at least `count` bytes).
+  void values(const Element& e, std::uint64_t count, const char* what) const {
+    const std::uint64_t size = value_size(e.type);
+    if (size == 0)
+      fail(std::string(what) + " has the data type " + std::to_string(e.type) + ", not a number type");
+    if (e.size % size != 0) fail(std::string(what) + " is not a whole number of values");
+    const std::uint64_t n = e.size / size;
+    if (e.type == 16 ? n < count : n != count) {
+      fail(std::string(what) + " stores " + std::to_string(n) + " values for " + std::to_string(count) +
+           " elements");
+    }
+  }
+
+  /// An miMATRIX element's contents (MAT-File Format, "miMATRIX Format"): array flags, dimensions, name,
+  /// then exactly the parts its class has — real (and imaginary) data; sparse row indices, column starts
+  /// and data; a cell's or struct's nested arrays — and nothing more. libmatio reads these parts in
+  /// sequence and allocates from their sizes, so only this exact layout is handed to it.
   void matrix(const std::uint8_t* buf, std::uint64_t len, int depth) const {
-    if (len == 0) return;  // an empty array (e.g. an empty cell)
+    if (len == 0) {
+      if (depth == 0) fail("an array is empty (no flags, dimensions or name)");
+      return;  // an empty nested array (e.g. an empty cell)
+    }
     if (depth > kMaxDepth) fail("arrays nested more than " + std::to_string(kMaxDepth) + " deep");
-    const Element flags = element(buf, len, 0, "an array");
+    const Element flags = part(buf, len, 0, "an array's flags");
     if (flags.type != kMiUint32 || flags.size != 8) fail("an array's flags are not two miUINT32 values");
-    const std::uint32_t array_class = u32(flags.data) & 0xFFu;
+    const std::uint32_t flag_word = u32(flags.data);
+    const std::uint32_t array_class = flag_word & 0xFFu;
     if (array_class == 0 || array_class > 17)
       fail("an array has the unknown class " + std::to_string(array_class));
-    // function handles and classdef objects have another layout, which libmatio cannot bound either
-    if (array_class > 15)
-      fail("an array is a MATLAB function handle or object, which glmbslam does not read");
+    // objects, function handles and opaque values have other layouts, which libmatio cannot bound either
+    if (array_class == kObject || array_class > 15)
+      fail("an array is a MATLAB object, function handle or opaque value, which glmbslam does not read");
+    if ((flag_word & ~(0xFFu | kComplex | kGlobal | kLogical)) != 0)
+      fail("an array's flags have unknown bits set");
+    const bool complex = (flag_word & kComplex) != 0;
     const std::uint64_t nzmax = u32(flags.data + 4);
-    const Element dims = element(buf, len, flags.next, "an array");
+    const Element dims = part(buf, len, flags.next, "an array's dimensions");
     if (dims.type != kMiInt32 || dims.size < 8 || dims.size % 4 != 0)
       fail("an array's dimensions are not at least two miINT32 values");
     std::uint64_t count = 1;
@@ -94,63 +156,98 @@ class Walker {
       const auto ud = static_cast<std::uint64_t>(d);
       count = ud != 0 && count > kSaturated / ud ? kSaturated : count * ud;
     }
-    const Element name = element(buf, len, dims.next, "an array");
+    const Element name = part(buf, len, dims.next, "an array's name");
     if (name.type != kMiInt8) fail("an array's name is not an miINT8 element");
-    if (depth == 0) variable_.assign(reinterpret_cast<const char*>(name.data), name.size);
-    std::uint64_t pos = name.next, data_bytes = 0, nested = 0;
-    std::uint64_t fields = 1;
-    if (array_class == kStruct || array_class == kObject) {
-      if (array_class == kObject) {
-        const Element class_name = element(buf, len, pos, "an object");
-        pos = class_name.next;
-      }
-      const Element field_length = element(buf, len, pos, "a struct");
-      const Element field_names = element(buf, len, field_length.next, "a struct");
-      const std::uint32_t length = field_length.size >= 4 ? u32(field_length.data) : 0;
-      fields = length == 0 ? 0 : field_names.size / length;
-      pos = field_names.next;
+    if (depth == 0) {
+      variable_.assign(reinterpret_cast<const char*>(name.data), name.size);
+      if (name.size == 0) fail("a variable has no name");
     }
-    while (pos < len) {
-      const Element e = element(buf, len, pos, "an array");
-      if (e.type == kMiMatrix) {
+    std::uint64_t pos = name.next;
+    if (array_class == kCell || array_class == kStruct) {
+      std::uint64_t children = count;
+      if (array_class == kStruct) {
+        const Element field_length = part(buf, len, pos, "a struct's field name length");
+        if (field_length.type != kMiInt32 || field_length.size != 4)
+          fail("a struct's field name length is not one miINT32 value");
+        const std::uint32_t length = u32(field_length.data);
+        const Element field_names = part(buf, len, field_length.next, "a struct's field names");
+        if (field_names.type != kMiInt8) fail("a struct's field names are not an miINT8 element");
+        if (length == 0 ? field_names.size != 0 : field_names.size % length != 0)
+          fail("a struct's field names are not a whole number of names");
+        const std::uint64_t fields = length == 0 ? 0 : field_names.size / length;
+        children = fields != 0 && count > kSaturated / fields ? kSaturated : count * fields;
+        pos = field_names.next;
+      }
+      std::uint64_t nested = 0;
+      while (pos < len) {
+        const Element e = part(buf, len, pos, "a nested array");
+        if (e.type != kMiMatrix) fail("a cell or struct holds a data element that is not an array");
         matrix(e.data, e.size, depth + 1);
         ++nested;
-      } else {
-        data_bytes += e.size;
+        pos = e.next;
       }
-      pos = e.next;
-    }
-    const std::uint64_t elements =
-        array_class == kStruct || array_class == kObject
-            ? (fields != 0 && count > kSaturated / fields ? kSaturated : count * fields)
-            : count;
-    if (array_class == kCell || array_class == kStruct || array_class == kObject) {
-      if (elements > nested) {
-        fail("a cell or struct array declares " + std::to_string(elements) + " elements and holds " +
+      if (nested != children) {
+        fail("a cell or struct array declares " + std::to_string(children) + " elements and holds " +
              std::to_string(nested));
       }
-    } else if (array_class == kSparse) {
-      if (nzmax > data_bytes) fail("a sparse array declares more non-zeros than its data holds");
-    } else if (count > data_bytes) {
-      fail("an array declares " + std::to_string(count) + " elements and stores " +
-           std::to_string(data_bytes) + " bytes");
+      return;
     }
+    if (array_class == kSparse) {
+      if (dims.size != 8) fail("a sparse array is not two-dimensional");
+      const Element rows = part(buf, len, pos, "a sparse array's row indices");
+      const Element starts = part(buf, len, rows.next, "a sparse array's column starts");
+      for (const Element* e : {&rows, &starts}) {
+        if (e->type != kMiInt32 && e->type != kMiUint32)
+          fail("a sparse array's indices are not 32-bit integers");
+        if (e->size % 4 != 0) fail("a sparse array's indices are not a whole number of values");
+      }
+      const std::uint64_t columns = static_cast<std::uint32_t>(u32(dims.data + 4));
+      if (starts.size / 4 != columns + 1) fail("a sparse array's column starts do not match its columns");
+      if (nzmax > rows.size / 4) fail("a sparse array declares more non-zeros than its row indices hold");
+      pos = starts.next;
+      count = rows.size / 4;  // its data holds at most one value per row index
+      const Element real = part(buf, len, pos, "a sparse array's data");
+      if (value_size(real.type) == 0 || real.size / value_size(real.type) > count)
+        fail("a sparse array's data holds more values than its row indices");
+      pos = real.next;
+      if (complex) {
+        const Element imaginary = part(buf, len, pos, "a sparse array's imaginary data");
+        if (value_size(imaginary.type) == 0 || imaginary.size / value_size(imaginary.type) > count)
+          fail("a sparse array's imaginary data holds more values than its row indices");
+        pos = imaginary.next;
+      }
+    } else {  // char, logical and numeric arrays
+      const Element real = part(buf, len, pos, "an array's data");
+      values(real, count, "an array's data");
+      pos = real.next;
+      if (complex) {
+        const Element imaginary = part(buf, len, pos, "an array's imaginary data");
+        values(imaginary, count, "an array's imaginary data");
+        pos = imaginary.next;
+      }
+    }
+    if (pos < len) fail("an array holds data beyond its parts");
   }
 
-  /// A top-level element: an array, or a compressed array (inflated, then checked).
-  void top_level(const Element& e) const {
+  /// A top-level element: an array, or a compressed array (inflated, then checked). libmatio reads one
+  /// variable per top-level element, so nothing else may stand there.
+  void top_level(const std::uint8_t* buf, std::uint64_t len, std::uint64_t pos) const {
     variable_.clear();
+    const Element e = element(buf, len, pos, "the file");
     if (e.type == kMiMatrix) {
-      matrix(e.data, e.size, 0);
+      const Element whole = part(buf, len, pos, "a variable");
+      matrix(whole.data, whole.size, 0);
     } else if (e.type == kMiCompressed) {
       const std::vector<std::uint8_t> inflated = inflate(e.data, e.size);
       const std::uint64_t n = inflated.size();
-      std::uint64_t pos = 0;
-      while (pos < n) {
-        const Element inner = element(inflated.data(), n, pos, "a compressed variable");
-        if (inner.type == kMiMatrix) matrix(inner.data, inner.size, 0);
-        pos = inner.next;
-      }
+      if (n < 8 || u32(inflated.data()) != kMiMatrix) fail("a compressed variable does not hold an array");
+      // libmatio's own writer declares a compressed char array's size for two bytes per character and
+      // stores one, so the declared size may exceed what inflates; libmatio reads the parts, which must fit
+      // in what does inflate
+      matrix(inflated.data() + 8, std::min<std::uint64_t>(u32(inflated.data() + 4), n - 8), 0);
+    } else {
+      fail("the data element of type " + std::to_string(e.type) +
+           " stands between the variables (only arrays and compressed arrays belong there)");
     }
   }
 
@@ -208,9 +305,8 @@ void check_mat5_structure(const std::filesystem::path& path) {
   const std::uint64_t len = bytes.size();
   std::uint64_t pos = 128;
   while (pos < len) {
-    const auto e = walker.element(bytes.data(), len, pos, "the file");
-    walker.top_level(e);
-    pos = e.next;
+    walker.top_level(bytes.data(), len, pos);
+    pos = walker.element(bytes.data(), len, pos, "the file").next;
   }
 }
 
