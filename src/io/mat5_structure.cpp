@@ -104,23 +104,39 @@ class Walker {
   Element part(const std::uint8_t* buf, std::uint64_t len, std::uint64_t pos, const char* what) const {
     const Element e = element(buf, len, pos, what);
     const bool small = e.data == buf + pos + 4;
-    // element() bounds the size by the bytes that remain; its padding to 8 bytes must fit too
-    if (!small && (e.size + 7) / 8 * 8 > len - pos - 8)
+    // element() bounds the size by the bytes that remain; its padding to 8 bytes must fit too (a compressed
+    // element has none)
+    if (!small && e.type != kMiCompressed && (e.size + 7) / 8 * 8 > len - pos - 8)
       fail(std::string(what) + " overruns what contains it");
     return e;
   }
 
-  /// A numeric part holding exactly `count` values (a UTF-8 char array: at least `count` bytes).
-  void values(const Element& e, std::uint64_t count, const char* what) const {
+  enum class Count { kExactly, kAtMost };
+
+  /// A numeric part holding exactly (or at most) `count` values; a UTF-8 char array holds at least `count`
+  /// bytes, as a character may take several.
+  void values(const Element& e, std::uint64_t count, Count bound, const char* what) const {
     const std::uint64_t size = value_size(e.type);
     if (size == 0)
       fail(std::string(what) + " has the data type " + std::to_string(e.type) + ", not a number type");
     if (e.size % size != 0) fail(std::string(what) + " is not a whole number of values");
     const std::uint64_t n = e.size / size;
-    if (e.type == 16 ? n < count : n != count) {
-      fail(std::string(what) + " stores " + std::to_string(n) + " values for " + std::to_string(count) +
-           " elements");
+    const bool fits = bound == Count::kAtMost ? n <= count : e.type == 16 ? n >= count : n == count;
+    if (!fits) {
+      fail(std::string(what) + " stores " + std::to_string(n) + " values for " +
+           (bound == Count::kAtMost ? "at most " : "") + std::to_string(count) + " elements");
     }
+  }
+
+  /// An array's real data, then its imaginary data if it is complex; returns the offset after them.
+  std::uint64_t data_parts(const std::uint8_t* buf, std::uint64_t len, std::uint64_t pos, bool complex,
+                           std::uint64_t count, Count bound) const {
+    const Element real = part(buf, len, pos, "an array's data");
+    values(real, count, bound, "an array's data");
+    if (!complex) return real.next;
+    const Element imaginary = part(buf, len, real.next, "an array's imaginary data");
+    values(imaginary, count, bound, "an array's imaginary data");
+    return imaginary.next;
   }
 
   /// An miMATRIX element's contents (MAT-File Format, "miMATRIX Format"): array flags, dimensions, name,
@@ -204,39 +220,21 @@ class Walker {
       const std::uint64_t columns = static_cast<std::uint32_t>(u32(dims.data + 4));
       if (starts.size / 4 != columns + 1) fail("a sparse array's column starts do not match its columns");
       if (nzmax > rows.size / 4) fail("a sparse array declares more non-zeros than its row indices hold");
-      pos = starts.next;
-      count = rows.size / 4;  // its data holds at most one value per row index
-      const Element real = part(buf, len, pos, "a sparse array's data");
-      if (value_size(real.type) == 0 || real.size / value_size(real.type) > count)
-        fail("a sparse array's data holds more values than its row indices");
-      pos = real.next;
-      if (complex) {
-        const Element imaginary = part(buf, len, pos, "a sparse array's imaginary data");
-        if (value_size(imaginary.type) == 0 || imaginary.size / value_size(imaginary.type) > count)
-          fail("a sparse array's imaginary data holds more values than its row indices");
-        pos = imaginary.next;
-      }
+      // its data holds at most one value per row index
+      pos = data_parts(buf, len, starts.next, complex, rows.size / 4, Count::kAtMost);
     } else {  // char, logical and numeric arrays
-      const Element real = part(buf, len, pos, "an array's data");
-      values(real, count, "an array's data");
-      pos = real.next;
-      if (complex) {
-        const Element imaginary = part(buf, len, pos, "an array's imaginary data");
-        values(imaginary, count, "an array's imaginary data");
-        pos = imaginary.next;
-      }
+      pos = data_parts(buf, len, pos, complex, count, Count::kExactly);
     }
     if (pos < len) fail("an array holds data beyond its parts");
   }
 
-  /// A top-level element: an array, or a compressed array (inflated, then checked). libmatio reads one
-  /// variable per top-level element, so nothing else may stand there.
-  void top_level(const std::uint8_t* buf, std::uint64_t len, std::uint64_t pos) const {
+  /// The top-level element at `pos`: an array, or a compressed array (inflated, then checked); returns the
+  /// offset of the next. libmatio reads one variable per top-level element, so nothing else may stand there.
+  std::uint64_t top_level(const std::uint8_t* buf, std::uint64_t len, std::uint64_t pos) const {
     variable_.clear();
-    const Element e = element(buf, len, pos, "the file");
+    const Element e = part(buf, len, pos, "a variable");
     if (e.type == kMiMatrix) {
-      const Element whole = part(buf, len, pos, "a variable");
-      matrix(whole.data, whole.size, 0);
+      matrix(e.data, e.size, 0);
     } else if (e.type == kMiCompressed) {
       const std::vector<std::uint8_t> inflated = inflate(e.data, e.size);
       const std::uint64_t n = inflated.size();
@@ -249,6 +247,7 @@ class Walker {
       fail("the data element of type " + std::to_string(e.type) +
            " stands between the variables (only arrays and compressed arrays belong there)");
     }
+    return e.next;
   }
 
   std::vector<std::uint8_t> inflate(const std::uint8_t* data, std::uint64_t size) const {
@@ -304,10 +303,7 @@ void check_mat5_structure(const std::filesystem::path& path) {
   const Walker walker(path.string(), big);
   const std::uint64_t len = bytes.size();
   std::uint64_t pos = 128;
-  while (pos < len) {
-    walker.top_level(bytes.data(), len, pos);
-    pos = walker.element(bytes.data(), len, pos, "the file").next;
-  }
+  while (pos < len) pos = walker.top_level(bytes.data(), len, pos);
 }
 
 }  // namespace glmbslam::io

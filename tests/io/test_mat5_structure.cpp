@@ -128,6 +128,15 @@ TEST(Mat5Structure, RefusesASparseArrayMissingItsParts) {
   EXPECT_NE(rejection(cut).find("sparse"), std::string::npos) << rejection(cut);
   const auto wide = write_file("sparse_nzmax.mat", array(5, 9, 2, concat({rows, starts, doubles(2)})));
   EXPECT_NE(rejection(wide).find("non-zeros"), std::string::npos) << rejection(wide);
+  // its data holds at most one value per row index, real and imaginary alike
+  const auto more = write_file("sparse_data.mat", array(5, 2, 2, concat({rows, starts, doubles(3)})));
+  EXPECT_NE(rejection(more).find("stores 3 values for at most 2"), std::string::npos) << rejection(more);
+  const auto imaginary = write_file("sparse_imaginary.mat",
+                                    array(5 | 0x0800, 2, 2, concat({rows, starts, doubles(2), doubles(3)})));
+  EXPECT_NE(rejection(imaginary).find("imaginary data stores 3 values for at most 2"), std::string::npos)
+      << rejection(imaginary);
+  EXPECT_NO_THROW(check_mat5_structure(write_file(
+      "sparse_complex.mat", array(5 | 0x0800, 2, 2, concat({rows, starts, doubles(2), doubles(1)})))));
 }
 
 // Every array kind libmatio writes (numeric, complex, char, logical, integer, sparse, cell, struct), plain
