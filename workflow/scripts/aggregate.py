@@ -47,7 +47,8 @@ VO_COLUMNS = [
     ("peak RSS MiB", "peak_rss_mib"), ("wall s", "wall_s"), ("CPU s", "cpu_s"),
 ]
 PLANAR_COLUMNS = [
-    ("position RMSE m", "position_rmse_m"), ("ms per step", "ms_per_step.mean"), ("ESS %", "ess_percent"),
+    ("position RMSE m", "position_rmse_m"), ("refined position RMSE m", "refined.position_rmse_m"),
+    ("ms per step", "ms_per_step.mean"), ("ESS %", "ess_percent"),
     ("resampling %", "resampling_percent"), ("landmarks", "map.landmarks"), ("peak RSS MiB", "peak_rss_mib"),
     ("wall s", "wall_s"), ("CPU s", "cpu_s"),
 ]
