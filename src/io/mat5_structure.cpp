@@ -48,15 +48,17 @@ class Walker {
     std::uint64_t next = 0;  // offset of the following element
   };
 
-  /// The element at `pos` of a buffer of `len` bytes (small-element format included).
-  Element element(const std::uint8_t* buf, std::uint64_t len, std::uint64_t pos, const char* where) const {
-    if (len - pos < 8) fail(std::string("a data element tag in ") + where + " is cut off");
+  /// The element at `pos` of a buffer of `len` bytes (small-element format included), which must end, padding
+  /// included, within `len`: libmatio reads an array's parts one after the other, so a part overrunning its
+  /// array would be read from the bytes that follow.
+  Element part(const std::uint8_t* buf, std::uint64_t len, std::uint64_t pos, const char* what) const {
+    if (len - pos < 8) fail(std::string("a data element tag in ") + what + " is cut off");
     Element e;
     const std::uint32_t word = u32(buf + pos);
     if ((word >> 16) != 0) {  // small data element: 2-byte size, 2-byte type, 4 bytes of data
       e.type = word & 0xFFFFu;
       e.size = word >> 16;
-      if (e.size > 4) fail(std::string("a small data element in ") + where + " declares more than 4 bytes");
+      if (e.size > 4) fail(std::string("a small data element in ") + what + " declares more than 4 bytes");
       e.data = buf + pos + 4;
       e.next = pos + 8;
       return e;
@@ -64,12 +66,14 @@ class Walker {
     e.type = word;
     e.size = u32(buf + pos + 4);
     if (e.size > len - pos - 8) {
-      fail(std::string("a data element in ") + where + " declares " + std::to_string(e.size) + " bytes, " +
+      fail(std::string("a data element in ") + what + " declares " + std::to_string(e.size) + " bytes, " +
            std::to_string(len - pos - 8) + " remain");
     }
-    e.data = buf + pos + 8;
+    // padded to 8 bytes, but for a compressed element
     const std::uint64_t padded = e.type == kMiCompressed ? e.size : (e.size + 7) / 8 * 8;
-    e.next = std::min(len, pos + 8 + padded);
+    if (padded > len - pos - 8) fail(std::string(what) + " overruns what contains it");
+    e.data = buf + pos + 8;
+    e.next = pos + 8 + padded;
     return e;
   }
 
@@ -97,18 +101,6 @@ class Walker {
       default:
         return 0;
     }
-  }
-
-  /// The element at `pos`, which must end (padding included) within `len`: libmatio reads an array's parts
-  /// one after the other, so a part overrunning its array would be read from the bytes that follow.
-  Element part(const std::uint8_t* buf, std::uint64_t len, std::uint64_t pos, const char* what) const {
-    const Element e = element(buf, len, pos, what);
-    const bool small = e.data == buf + pos + 4;
-    // element() bounds the size by the bytes that remain; its padding to 8 bytes must fit too (a compressed
-    // element has none)
-    if (!small && e.type != kMiCompressed && (e.size + 7) / 8 * 8 > len - pos - 8)
-      fail(std::string(what) + " overruns what contains it");
-    return e;
   }
 
   enum class Count { kExactly, kAtMost };
