@@ -7,6 +7,7 @@
 #include <ceres/ceres.h>
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 
 #include "backend/mlslam/mlslam_config.hpp"
 #include "backend/mlslam/smooth_detection.hpp"
@@ -49,32 +50,42 @@ typename Matrix::PlainObject whitening(const Matrix& S) {
   return llt.matrixL().solve(Plain::Identity(S.rows(), S.cols()));
 }
 
-/// r = W(x_{i−1}) (x_i ⊖ f(x_{i−1}, u)) with Wᵀ W = P̄(x_{i−1}, u)⁻¹ (Eq. 2), for any 2D motion model
-/// (numeric derivatives: the models are double-only). P̄ is taken at the current x_{i−1}, not held at the
-/// linearisation point: the unicycle's P̄ has almost no lateral variance (regulariser 1e-9 m²), so a P̄ held
-/// while the heading of x_{i−1} moves turns the forward residual into a lateral one that log g of the
-/// E-step penalises and the M-step did not see (l fell after an M-step even from the ground truth).
-/// ‖r‖² = −2 log g − log det(2π P̄), and det P̄ does not depend on the heading of x_{i−1} for the
-/// unicycle, steering and Ackermann models (P̄ = R(θ) P̄_0 R(θ)ᵀ plus a regulariser isotropic in x, y).
+/// The motion factor of x_{i−1} → x_i (paper 004 Eq. 2): r = W_L (R(θ_{i−1})ᵀ ⊙ (x_i ⊖ f(x_{i−1}, u))), the
+/// residual rotated into the frame of x_{i−1} (position part; the heading part is unchanged) and whitened by
+/// W_L, Wᵀ_L W_L = R(θ)ᵀ P̄(x_{i−1}, u)⁻¹ R(θ). ‖r‖² = −2 log g − log det(2π P̄) exactly, since the unicycle,
+/// steering and Ackermann models are rotation-equivariant: P̄ = R(θ) P̄_0(u) R(θ)ᵀ plus a regulariser
+/// isotropic in x, y, so W_L depends on u alone and holding it through the solve is exact at every heading.
+/// The world-frame form with P̄ re-factorised at each evaluation is the same cost, but its numeric
+/// derivatives are not: P̄ has almost no lateral variance (regulariser 1e-9 m², condition ~10⁹), the
+/// factorisation loses most digits of the lateral row, and the Jacobians it gave stalled the solver along
+/// the trajectory's slow rotation modes (docs/investigations.md, "phdslam3: the motion factor in the
+/// previous pose's frame").
 template <class Motion>
 struct MotionResidual {
   const Motion* motion;
   typename Motion::Control u;
+  Eigen::Matrix3d W_local;
   bool operator()(const double* prev, const double* cur, double* r) const {
     const typename Motion::State a(prev[0], prev[1], prev[2]), b(cur[0], cur[1], cur[2]);
+    Eigen::Vector3d d = Motion::local(b, motion->predict(a, u));
+    const double c = std::cos(a(2)), s = std::sin(a(2));
+    d.head<2>() = Eigen::Vector2d(c * d(0) + s * d(1), -s * d(0) + c * d(1));
     Eigen::Map<Eigen::Vector3d> residual(r);
-    residual = whitening(motion->process_noise(a, u)) * Motion::local(b, motion->predict(a, u));
+    residual = W_local * d;
     return true;
   }
 };
 
-/// The motion factor of x_{i−1} → x_i (W, the whitening at the linearisation point, is not used: see
-/// MotionResidual).
+/// The motion factor of x_{i−1} → x_i from W, the (scaled) whitening of P̄ at the linearisation pose
+/// `prev`: W_L = W · blockdiag(R(θ_prev), 1) (MotionResidual).
 template <class Motion>
 ceres::CostFunction* make_motion_factor(const Motion& motion, const typename Motion::Control& u,
-                                        const typename Motion::Covariance& /*W*/) {
+                                        const typename Motion::Covariance& W,
+                                        const typename Motion::State& prev) {
+  Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
+  R.topLeftCorner<2, 2>() = Eigen::Rotation2Dd(prev(2)).toRotationMatrix();
   return new ceres::NumericDiffCostFunction<MotionResidual<Motion>, ceres::CENTRAL, 3, 3, 3>(
-      new MotionResidual<Motion>{&motion, u});
+      new MotionResidual<Motion>{&motion, u, W * R});
 }
 
 /// r = √β W (z − ẑ(x, m)) with the model's analytic Jacobians (H_x is w.r.t. the pose tangent, which is the
@@ -135,8 +146,10 @@ struct PlanarMlSlamParts {
     return x;
   }
   static ceres::CostFunction* motion_factor(const Motion& motion, const typename Motion::Control& u,
-                                            const typename Motion::Covariance& W) {
-    return make_motion_factor(motion, u, W);
+                                            const typename Motion::Covariance& /*W*/, const Pose& prev) {
+    // the configured P̄, not the M-step's s·P̄ (MlSlamConfig::motion_noise "estimated" rescales the E-step's
+    // log g only: applied in the 2D M-step too, s collapses to its lower bound on the solver tests)
+    return make_motion_factor(motion, u, whitening(motion.process_noise(prev, u)), prev);
   }
   static ceres::CostFunction* measurement_factor(const Model& model, const typename Model::Measurement& z,
                                                  const typename Model::MeasurementCovariance& W,

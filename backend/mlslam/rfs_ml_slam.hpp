@@ -376,8 +376,8 @@ class RfsMlSlam {
     for (std::size_t i = 1; i < K; ++i) {
       auto W = whitening(motion_.process_noise(s.poses[i - 1], controls[i]));
       if (s.motion_scale != 1.0) W /= std::sqrt(s.motion_scale);
-      problem.AddResidualBlock(Parts::motion_factor(motion_, controls[i], W), nullptr, block(i - 1),
-                               block(i));
+      problem.AddResidualBlock(Parts::motion_factor(motion_, controls[i], W, s.poses[i - 1]), nullptr,
+                               block(i - 1), block(i));
     }
     const auto W_R = whitening(model_.noise());
     for (std::size_t i = 0; i < K; ++i) {

@@ -150,6 +150,7 @@ RunRecord drive(Slam& slam, const sim::Scenario2D& s, const std::vector<std::vec
 void apply_ml(RunRecord& rec, const MlSimResult& ml, const sim::Scenario2D& s,
               const std::vector<std::vector<int>>& seen, bool refinement) {
   if (ml.interrupted) throw RunInterrupted{};
+  spdlog::debug("RFS-ML: {} rounds, log-likelihood {:.3f}, {:.0f} ms", ml.rounds, ml.log_likelihood, ml.ms);
   double se = 0.0;
   for (std::size_t k = 1; k < s.steps(); ++k) se += (rec.estimates[k] - s.poses[k]).head<2>().squaredNorm();
   rec.filter_position_rmse = std::sqrt(se / static_cast<double>(std::max<std::size_t>(s.steps() - 1, 1)));

@@ -7,6 +7,8 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include "backend/models/ackermann_motion.hpp"
+#include "backend/models/steering_motion.hpp"
 #include "core/config_node.hpp"
 #include "core/error.hpp"
 #include "core/parallel.hpp"
@@ -27,38 +29,49 @@ double max_landmark_error(const Slam2D::LandmarkList& est, const Slam2D::Landmar
   return e;
 }
 
-// The motion factor is −2 log g (Eq. 2) up to log det(2π P̄), with P̄ taken at the x_{i−1} it is evaluated
-// at: the identity holds for previous poses of any heading (the factor's P̄ follows the heading) and for
-// lateral offsets (the unicycle's P̄ has almost no lateral variance), and det P̄ is the same for all headings.
-TEST(MlSlamSolver, MotionFactorIsMinusTwiceTheLogDensityAtEveryPreviousPose) {
-  const auto p = test::make_problem(3, 3, 0.9, 0.0, 1);
-  const Eigen::Vector2d u(0.5, 0.2);
-  const Eigen::Matrix3d W0 = whitening(p.motion.process_noise(Pose2(0.0, 0.0, 0.0), u));
-  std::unique_ptr<ceres::CostFunction> f(make_motion_factor(p.motion, u, W0));
+// The motion factor, built at one linearisation pose, is −2 log g (Eq. 2) up to log det(2π P̄) at previous
+// poses of any heading and position: in the previous pose's frame the whitening of these rotation-equivariant
+// models depends on the control alone. Checked for forward, lateral (1e-5 m against a lateral σ of ~3e-5 m)
+// and heading offsets from the prediction, for the unicycle, steering and Ackermann models.
+template <class Motion>
+void expect_motion_factor_is_minus_twice_log_density(const Motion& motion,
+                                                     const typename Motion::Control& u) {
+  const Pose2 linearisation(4.0, 1.0, 0.3);
+  std::unique_ptr<ceres::CostFunction> f(
+      make_motion_factor(motion, u, whitening(motion.process_noise(linearisation, u)), linearisation));
   double log_det0 = 0.0;
   for (const double heading : {0.0, 0.7, -2.0, 3.0}) {
     const Pose2 prev(1.0, -2.0, heading);
-    const Eigen::Matrix3d P = p.motion.process_noise(prev, u);
+    const Eigen::Matrix3d P = motion.process_noise(prev, u);
     const double log_det = std::log((2.0 * M_PI * P).determinant());
     if (heading == 0.0) log_det0 = log_det;
     EXPECT_NEAR(log_det, log_det0, 1e-9 * std::abs(log_det0));
-    const Pose2 mean = p.motion.predict(prev, u);
-    // forward, lateral (1e-5 m against a lateral σ of ~3e-5 m) and heading offsets
+    const Pose2 mean = motion.predict(prev, u);
+    const Eigen::Vector2d travel = (mean - prev).head<2>().normalized();
+    const Eigen::Vector2d side(-travel(1), travel(0));
     for (const Eigen::Vector3d& d : {Eigen::Vector3d(0.01, 0.0, 0.0), Eigen::Vector3d(0.0, 1e-5, 0.0),
                                      Eigen::Vector3d(0.005, -2e-5, 0.004)}) {
-      const Eigen::Vector2d lateral(-std::sin(heading), std::cos(heading));
-      const Eigen::Vector2d forward(std::cos(heading), std::sin(heading));
       Pose2 cur = mean;
-      cur.head<2>() += d(0) * forward + d(1) * lateral;
+      cur.head<2>() += d(0) * travel + d(1) * side;
       cur(2) += d(2);
       const double* blocks[2] = {prev.data(), cur.data()};
       Eigen::Vector3d r;
       ASSERT_TRUE(f->Evaluate(blocks, r.data(), nullptr));
-      const double minus_two_log_g = -2.0 * p.motion.log_density(cur, prev, u);
-      EXPECT_NEAR(r.squaredNorm() + log_det, minus_two_log_g, 1e-6 * std::abs(minus_two_log_g));
-      EXPECT_GT(r.squaredNorm(), 1e-3);
+      const double minus_two_log_g = -2.0 * motion.log_density(cur, prev, u);
+      EXPECT_NEAR(r.squaredNorm() + log_det, minus_two_log_g, 1e-6 * std::abs(minus_two_log_g))
+          << "heading " << heading << ", offset " << d.transpose();
+      EXPECT_GT(r.squaredNorm(), 1e-4);  // not trivially zero
     }
   }
+}
+
+TEST(MlSlamSolver, MotionFactorIsMinusTwiceTheLogDensityAtEveryPreviousPose) {
+  expect_motion_factor_is_minus_twice_log_density(test::make_problem(3, 3, 0.9, 0.0, 1).motion,
+                                                  Eigen::Vector2d(0.5, 0.2));
+  expect_motion_factor_is_minus_twice_log_density(SteeringMotion(), Eigen::Vector2d(2.0, 0.1));
+  AckermannMotion::Control sub_steps(3, 4);  // columns (v, steering, dt): 40 Hz odometry, turning left
+  for (Eigen::Index i = 0; i < sub_steps.cols(); ++i) sub_steps.col(i) << 3.0, 0.05 + 0.01 * i, 0.025;
+  expect_motion_factor_is_minus_twice_log_density(AckermannMotion(), sub_steps);
 }
 
 TEST(MlSlamSolver, ConvergesFromAPerturbedStart) {
