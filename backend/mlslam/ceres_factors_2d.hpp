@@ -76,7 +76,7 @@ struct MotionResidual {
   }
 };
 
-/// The motion factor of x_{i−1} → x_i from W, the (scaled) whitening of P̄ at the linearisation pose
+/// The motion factor of x_{i−1} → x_i from W, the whitening of P̄ at the linearisation pose
 /// `prev`: W_L = W · blockdiag(R(θ_prev), 1) (MotionResidual).
 template <class Motion>
 ceres::CostFunction* make_motion_factor(const Motion& motion, const typename Motion::Control& u,
@@ -146,10 +146,11 @@ struct PlanarMlSlamParts {
     return x;
   }
   static ceres::CostFunction* motion_factor(const Motion& motion, const typename Motion::Control& u,
-                                            const typename Motion::Covariance& /*W*/, const Pose& prev) {
+                                            const typename Motion::Covariance& W, const Pose& prev,
+                                            double /*scale*/) {
     // the configured P̄, not the M-step's s·P̄ (MlSlamConfig::motion_noise "estimated" rescales the E-step's
     // log g only: applied in the 2D M-step too, s collapses to its lower bound on the solver tests)
-    return make_motion_factor(motion, u, whitening(motion.process_noise(prev, u)), prev);
+    return make_motion_factor(motion, u, W, prev);
   }
   static ceres::CostFunction* measurement_factor(const Model& model, const typename Model::Measurement& z,
                                                  const typename Model::MeasurementCovariance& W,

@@ -75,8 +75,9 @@ struct LineMlSlamParts {
   static void to_block(const Pose& x, double* block) { block[0] = x(0); }
   static Pose from_block(const double* block) { return Pose::Constant(block[0]); }
   static ceres::CostFunction* motion_factor(const LineMotion& /*motion*/, const LineMotion::Control& u,
-                                            const LineMotion::Covariance& W, const Pose& /*prev*/) {
-    return new LineMotionFactor(u(0), W(0, 0));
+                                            const LineMotion::Covariance& W, const Pose& /*prev*/,
+                                            double scale) {
+    return new LineMotionFactor(u(0), W(0, 0) / std::sqrt(scale));
   }
   static ceres::CostFunction* measurement_factor(const LineMeasurementModel& model,
                                                  const LineMeasurementModel::Measurement& z,

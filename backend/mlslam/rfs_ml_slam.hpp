@@ -374,10 +374,9 @@ class RfsMlSlam {
     auto block = [&](std::size_t i) { return blocks.data() + i * B; };
     for (std::size_t i = 0; i < K; ++i) Parts::to_block(s.poses[i], block(i));
     for (std::size_t i = 1; i < K; ++i) {
-      auto W = whitening(motion_.process_noise(s.poses[i - 1], controls[i]));
-      if (s.motion_scale != 1.0) W /= std::sqrt(s.motion_scale);
-      problem.AddResidualBlock(Parts::motion_factor(motion_, controls[i], W, s.poses[i - 1]), nullptr,
-                               block(i - 1), block(i));
+      const auto W = whitening(motion_.process_noise(s.poses[i - 1], controls[i]));
+      problem.AddResidualBlock(Parts::motion_factor(motion_, controls[i], W, s.poses[i - 1], s.motion_scale),
+                               nullptr, block(i - 1), block(i));
     }
     const auto W_R = whitening(model_.noise());
     for (std::size_t i = 0; i < K; ++i) {

@@ -30,8 +30,8 @@ struct StereoMlSlamParts {
   static void to_block(const Pose3& x, double* block) { pose3_to_block(x, block); }
   static Pose3 from_block(const double* block) { return pose3_from_block(block); }
   static ceres::CostFunction* motion_factor(const Se3Motion& /*motion*/, const RelativePoseControl& u,
-                                            const Matrix6d& W, const Pose3& /*prev*/) {
-    return make_relative_pose_factor(u.delta, W);
+                                            const Matrix6d& W, const Pose3& /*prev*/, double scale) {
+    return make_relative_pose_factor(u.delta, W / std::sqrt(scale));
   }
   static ceres::CostFunction* measurement_factor(const StereoMeasurementModel& model,
                                                  const Eigen::Vector3d& z, const Eigen::Matrix3d& W,

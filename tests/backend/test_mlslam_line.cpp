@@ -48,7 +48,7 @@ LineMlSlam make_slam(int search) {
 TEST(LineMlSlam, MotionFactorIsTheWhitenedOdometryResidual) {
   const LineMotion motion;
   const std::unique_ptr<ceres::CostFunction> f(
-      LineMlSlamParts::motion_factor(motion, at(0.06), at(10.0), at(0.0)));
+      LineMlSlamParts::motion_factor(motion, at(0.06), at(10.0), at(0.0), 1.0));
   const double prev = 1.0, cur = 1.2;
   const double* params[] = {&prev, &cur};
   double r = 0.0, j0 = 0.0, j1 = 0.0;
