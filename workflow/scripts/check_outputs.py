@@ -69,13 +69,13 @@ def main():
     if tables != len(fam_count):
         errors.append(f"summary.md has {tables} tables, expected {len(fam_count)} (one per family)")
     for f in ("summary.html", "results.md", "resources_measured.yaml", "plots/slam_vs_vo.png",
-              "plots/rmse_vs_particles.png", "plots/time_vs_particles.png"):
+              "plots/rmse_vs_particles.png", "plots/time_vs_particles.png", "plots/rfs_vs_vector_ml.png"):
         path = os.path.join(out, f)
         if not os.path.isfile(path) or os.path.getsize(path) < 200:
             errors.append(f"{f} missing or empty")
         elif f.endswith(".png") and open(path, "rb").read(8) != b"\x89PNG\r\n\x1a\n":
             errors.append(f"{f} is not a PNG")
-    print(f"check_outputs: summary.md {tables} tables; summary.html, results.md, resources_measured.yaml, 3 plots "
+    print(f"check_outputs: summary.md {tables} tables; summary.html, results.md, resources_measured.yaml, 4 plots "
           f"checked")
     for e in errors[:40]:
         print("ERROR", e)

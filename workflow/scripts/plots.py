@@ -1,13 +1,16 @@
 #!/usr/bin/env python3
 """Comparison plots from the workflow's tidy results.csv (matplotlib, Debian's python3-matplotlib).
 
-Usage: plots.py RESULTS.csv SLAM_VS_VO.png RMSE_VS_PARTICLES.png TIME_VS_PARTICLES.png
+Usage: plots.py RESULTS.csv SLAM_VS_VO.png RMSE_VS_PARTICLES.png TIME_VS_PARTICLES.png RFS_VS_VECTOR_ML.png
 
 - SLAM vs VO per sequence: for every stereo dataset, the SLAM estimate of each (algorithm, N, refine) next to its
   own VO input (the `vo.*` block of the same runs) and `glmbslam vo` when run: KITTI t_rel (left) and ATE (right),
   mean over seeds with the standard deviation as error bar.
 - RMSE vs particle count: per dataset and algorithm, the primary error (stereo: SLAM ATE; 2D: position RMSE).
 - Time vs particle count: stereo: ms per frame end to end (1000 / fps); 2D and simulations: ms per step.
+- RFS-ML vs vector ML (paper 004's claim): on the paper004_1d scenario, `--algorithm mlslam` with the RFS
+  likelihood (Eq. 7) and with nearest-neighbour association (Eq. 4), against the clutter rate: position RMSE per
+  run (mean ± std, dead reckoning for reference), map OSPA and cardinality error (job means).
 A plot without data says so in its frame instead of being left out, so the outputs always exist.
 """
 import csv
@@ -162,8 +165,48 @@ def time_value(r):
     return num(r.get("ms_per_step.mean"))
 
 
+def rfs_vs_vector_ml(rows, path):
+    # (association, clutter rate) -> per-run position RMSE, job means of map OSPA and cardinality error
+    rmse, ospa, card, dr = {}, {}, {}, {}
+    for r in rows:
+        if r.get("command") != "sim" or r.get("scenario") != "paper004_1d" or r.get("algorithm") != "mlslam":
+            continue
+        lam = num(r.get("clutter_rate"))
+        if lam is None:
+            continue
+        key = (r.get("association") or "rfs", lam)
+        rmse.setdefault(key, []).append(num(r.get("position_rmse_m")))
+        ospa.setdefault(key, {})[r["run_dir"]] = num(r.get("map_ospa.distance_m.mean"))
+        card.setdefault(key, {})[r["run_dir"]] = num(r.get("cardinality_error.mean"))
+        dr.setdefault(lam, {})[r["run_dir"]] = num(r.get("dead_reckoning_rmse_per_run_m.mean"))
+    if not rmse:
+        empty(path, "no paper004_1d mlslam runs (RFS-ML vs vector ML)")
+        return
+    fig, axes = plt.subplots(1, 3, figsize=(15, 4))
+    labels = {"rfs": "RFS-ML (Eq. 7)", "nearest_neighbour": "vector ML, nearest neighbour (Eq. 4)"}
+    for assoc in sorted({a for a, _ in rmse}):
+        lams = sorted(lam for a, lam in rmse if a == assoc)
+        m = [stats(rmse[(assoc, x)]) for x in lams]
+        axes[0].errorbar(lams, [v[0] for v in m], yerr=[v[1] for v in m], marker="o", capsize=3,
+                         label=labels.get(assoc, assoc))
+        axes[1].plot(lams, [stats(list(ospa[(assoc, x)].values()))[0] for x in lams], marker="o",
+                     label=labels.get(assoc, assoc))
+        axes[2].plot(lams, [stats(list(card[(assoc, x)].values()))[0] for x in lams], marker="o",
+                     label=labels.get(assoc, assoc))
+    lams = sorted(dr)
+    axes[0].plot(lams, [stats(list(dr[x].values()))[0] for x in lams], "k--", label="dead reckoning")
+    for ax, ylabel in zip(axes, ("position RMSE per run (m)", "map OSPA, c = 1 m (m)", "cardinality error")):
+        ax.set_xlabel("clutter rate λ_c per scan")
+        ax.set_ylabel(ylabel)
+        ax.legend(fontsize=7)
+    fig.suptitle("Paper 004's 1D problem: RFS-ML against vector ML under clutter (mean over runs)")
+    fig.tight_layout()
+    fig.savefig(path, dpi=100)
+    plt.close(fig)
+
+
 def main():
-    if len(sys.argv) != 5:
+    if len(sys.argv) != 6:
         sys.exit(__doc__)
     with open(sys.argv[1], newline="") as f:
         rows = list(csv.DictReader(f))
@@ -172,6 +215,7 @@ def main():
                      "Error vs particle count (mean ± std over seeds / runs)")
     versus_particles(rows, sys.argv[4], time_value, ("ms per frame (1000 / fps)", "ms per step"),
                      "Time vs particle count (mean ± std)")
+    rfs_vs_vector_ml(rows, sys.argv[5])
     return 0
 
 
