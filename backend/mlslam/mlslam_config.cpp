@@ -1,5 +1,7 @@
 #include "backend/mlslam/mlslam_config.hpp"
 
+#include <string>
+
 namespace glmbslam::backend {
 
 void load_mlslam_config(ConfigNode node, MlSlamConfig& c) {
@@ -26,6 +28,7 @@ void load_mlslam_config(ConfigNode node, MlSlamConfig& c) {
   node.read_in_range("death_ratio", c.death_ratio, 0.0, 1.0);
   node.read_in_range("merge_distance_m", c.merge_distance_m, -1.0, 1e6);
   node.read_in_range("incremental_steps", c.incremental_steps, 0, 1000000);
+  node.read_in_range("incremental_window", c.incremental_window, 0, 1000000);
   node.read_in_range("initial_pose_search", c.initial_pose_search, 0, 1001);
   node.finish();
   validate_mlslam_config(c);
@@ -52,6 +55,9 @@ void validate_mlslam_config(const MlSlamConfig& c) {
     throw ConfigError("mlslam.initial_trust_region_radius must be positive");
   if (c.initial_pose_search < 0 || c.initial_pose_search > 1001)
     throw ConfigError("mlslam.initial_pose_search must be 0..1001");
+  if (c.incremental_window != 0 && c.incremental_window <= c.incremental_steps)
+    throw ConfigError("mlslam.incremental_window must be 0 or more than incremental_steps (" +
+                      std::to_string(c.incremental_steps) + "), got " + std::to_string(c.incremental_window));
 }
 
 }  // namespace glmbslam::backend

@@ -57,6 +57,11 @@ struct MlSlamConfig {
   /// Standalone: solve on steps 0..k every this many steps, each new stretch dead-reckoned from the last
   /// refined pose (0 = one batch from the odometry, which can stay stuck where the drift exceeds the gate).
   int incremental_steps = 5;
+  /// Standalone with incremental_steps > 0: solve only the last this many steps at each increment (their
+  /// first pose held, the landmarks they may see; older poses and landmarks kept), then one solve of the
+  /// whole problem at the end. 0 = every increment solves all the steps so far (cost quadratic in their
+  /// number: hours on Victoria Park's 7230 scans).
+  int incremental_window = 0;
   /// Standalone: each new pose starts at the best of n points per dimension of its motion noise's ±3σ box
   /// (x = f(x_{i−1}, u) ⊕ L t, L Lᵀ = P̄, t on the grid), scored by log g + log p(Z_i | x, M) with the map so
   /// far (0 = dead reckoning). For odometry much noisier than the sensor, where a dead-reckoned pose puts

@@ -75,6 +75,12 @@ class RfsMlSlam {
   /// interrupted run keeps what the rounds so far gained). Empty = never.
   void set_stop(std::function<bool()> stop) { stop_ = std::move(stop); }
 
+  /// Called by solve_from_odometry after each increment with (steps solved, all steps, landmarks). Empty =
+  /// none.
+  void set_progress(std::function<void(std::size_t, std::size_t, std::size_t)> progress) {
+    progress_ = std::move(progress);
+  }
+
   /// Refines `poses` (x_0..x_K; x_0 held) and `map` in place. controls[k] drives x_{k−1} to x_k (controls[0]
   /// unused); scans[k] = Z_k. Returns the solve's statistics.
   MlSlamReport solve(PoseList& poses, const ControlList& controls, const std::vector<MeasurementSet>& scans,
@@ -116,7 +122,9 @@ class RfsMlSlam {
 
   /// Standalone (paper 004's setting): the trajectory initialised by dead reckoning from x_0, the map from
   /// the measurements (births). With config.incremental_steps > 0 the problem grows by that many steps at a
-  /// time, each new stretch of trajectory dead-reckoned from the last refined pose.
+  /// time, each new stretch of trajectory dead-reckoned from the last refined pose; with
+  /// config.incremental_window > 0 each increment solves only its last steps (solve_window) and one solve of
+  /// the whole problem follows.
   MlSlamReport solve_from_odometry(const Pose& x0, const ControlList& controls,
                                    const std::vector<MeasurementSet>& scans, PoseList& poses,
                                    LandmarkList& map) const {
@@ -127,31 +135,61 @@ class RfsMlSlam {
     const std::size_t chunk = config_.incremental_steps > 0
                                   ? static_cast<std::size_t>(config_.incremental_steps)
                                   : std::max<std::size_t>(K, 1);
+    const std::size_t window = config_.incremental_window > 0 && config_.incremental_steps > 0
+                                   ? static_cast<std::size_t>(config_.incremental_window)
+                                   : std::max<std::size_t>(K, 1);
     MlSlamReport total;
-    Stopwatch watch;
-    for (std::size_t end = std::min(K, chunk + 1);; end = std::min(K, end + chunk)) {
-      while (poses.size() < end)
-        poses.push_back(initial_pose(poses.back(), controls[poses.size()], scans[poses.size()], map));
-      const ControlList u(controls.begin(), controls.begin() + static_cast<std::ptrdiff_t>(end));
-      const std::vector<MeasurementSet> z(scans.begin(), scans.begin() + static_cast<std::ptrdiff_t>(end));
-      const MlSlamReport r = solve(poses, u, z, map);
+    auto add = [&](const MlSlamReport& r) {
       if (total.rounds == 0) total.initial_log_likelihood = r.initial_log_likelihood;
       total.rounds += r.rounds;
       total.births += r.births;
       total.deaths += r.deaths;
       total.merges += r.merges;
       total.final_log_likelihood = r.final_log_likelihood;
+      total.motion_scale = r.motion_scale;
       total.stopped = r.stopped;
       total.log_likelihood_per_round.insert(total.log_likelihood_per_round.end(),
                                             r.log_likelihood_per_round.begin(),
                                             r.log_likelihood_per_round.end());
+    };
+    Stopwatch watch;
+    for (std::size_t end = std::min(K, chunk + 1);; end = std::min(K, end + chunk)) {
+      while (poses.size() < end)
+        poses.push_back(initial_pose(poses.back(), controls[poses.size()], scans[poses.size()], map));
+      add(solve_window(end > window ? end - window : 0, end, poses, controls, scans, map));
+      if (progress_) progress_(end, K, map.size());
       if (end == K || total.stopped || (stop_ && stop_())) {
         total.stopped = total.stopped || end < K;  // poses then holds steps 0..end−1 only
         break;
       }
     }
+    // after windows: the whole problem once, from the windows' estimate
+    if (window < K && !total.stopped && !(stop_ && stop_())) add(solve(poses, controls, scans, map));
     total.ms = watch.elapsed_ms();
     return total;
+  }
+
+  /// Solves steps first..end−1 of `poses` (x_first held) on their scans, with the landmarks any of them may
+  /// see; the other landmarks and the poses outside the window are kept as they are.
+  MlSlamReport solve_window(std::size_t first, std::size_t end, PoseList& poses, const ControlList& controls,
+                            const std::vector<MeasurementSet>& scans, LandmarkList& map) const {
+    PoseList x(poses.begin() + static_cast<std::ptrdiff_t>(first),
+               poses.begin() + static_cast<std::ptrdiff_t>(end));
+    const ControlList u(controls.begin() + static_cast<std::ptrdiff_t>(first),
+                        controls.begin() + static_cast<std::ptrdiff_t>(end));  // u[0] unused: x_first held
+    const std::vector<MeasurementSet> z(scans.begin() + static_cast<std::ptrdiff_t>(first),
+                                        scans.begin() + static_cast<std::ptrdiff_t>(end));
+    LandmarkList inside, outside;
+    for (const auto& m : map) {
+      const bool seen =
+          first == 0 || std::any_of(x.begin(), x.end(), [&](const Pose& p) { return maybe_in_view(p, m); });
+      (seen ? inside : outside).push_back(m);
+    }
+    const MlSlamReport r = solve(x, u, z, inside);
+    std::copy(x.begin(), x.end(), poses.begin() + static_cast<std::ptrdiff_t>(first));
+    map = std::move(outside);
+    map.insert(map.end(), inside.begin(), inside.end());
+    return r;
   }
 
   /// Where solve_from_odometry starts a new pose: the dead-reckoned f(x_prev, u), or with
@@ -612,6 +650,7 @@ class RfsMlSlam {
   Model model_;
   MlSlamConfig config_;
   typename Parts::Detection p_D_;
+  std::function<void(std::size_t, std::size_t, std::size_t)> progress_;
   std::function<bool()> stop_;
   mutable typename Parts::Manifold manifold_;
 };

@@ -1,8 +1,11 @@
 #include "app/victoria_park_ml.hpp"
 
+#include <string>
+
 #include <spdlog/spdlog.h>
 
 #include "backend/mlslam/rfs_ml_slam.hpp"
+#include "core/progress.hpp"
 
 namespace glmbslam::app {
 
@@ -26,7 +29,12 @@ backend::MlSlamReport solve_victoria_park_ml(const backend::AckermannMotion& mot
   slam.set_stop(stop);
   backend::MlSlamReport r;
   if (standalone) {
+    ProgressReporter progress(Z.size(), "mlslam");
+    slam.set_progress([&](std::size_t done, std::size_t, std::size_t landmarks) {
+      progress.update(done, "landmarks " + std::to_string(landmarks));
+    });
     r = slam.solve_from_odometry(initial_pose, u, Z, x, m);
+    progress.finish_at(x.size());
   } else {
     x.push_back(initial_pose);
     x.insert(x.end(), poses.begin(), poses.end());

@@ -23,15 +23,17 @@ struct Problem2D {
   Slam2D::PoseList odometry;  ///< dead reckoning from x_0 with the noisy controls
 };
 
-/// K steps on a circle of radius 4 m around `count` landmarks; p_D, clutter rate λ_c per scan.
-inline Problem2D make_problem(int K, int count, double p_D, double clutter, std::uint64_t seed) {
+/// K steps on a circle of radius 4 m around `count` landmarks; p_D, clutter rate λ_c per scan; a sensor
+/// range below 6 m leaves the far landmarks out of view.
+inline Problem2D make_problem(int K, int count, double p_D, double clutter, std::uint64_t seed,
+                              double max_range = 8.0) {
   UnicycleMotionConfig mc;
   mc.sigma_v = 0.02;
   mc.sigma_omega = 0.01;
   RangeBearingConfig rc;
   rc.sigma_range = 0.02;
   rc.sigma_bearing = 0.01;
-  rc.max_range = 8.0;
+  rc.max_range = max_range;
   rc.half_fov = M_PI;
   rc.p_detect_inside = p_D;
   rc.clutter_rate = clutter;

@@ -151,6 +151,20 @@ TEST(MlSlamSolver, MotionNoiseKey) {
   }
 }
 
+TEST(MlSlamSolver, IncrementalWindowKey) {
+  MlSlamConfig c;
+  EXPECT_EQ(c.incremental_window, 0);  // every increment solves all the steps so far
+  load_mlslam_config(ConfigNode(YAML::Load("incremental_window: 50\n"), "test.yaml", "mlslam"), c);
+  EXPECT_EQ(c.incremental_window, 50);
+  try {  // a window must hold the new steps and the held pose before them
+    load_mlslam_config(
+        ConfigNode(YAML::Load("incremental_steps: 5\nincremental_window: 5\n"), "test.yaml", "mlslam"), c);
+    ADD_FAILURE() << "no error";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("incremental_window"), std::string::npos) << e.what();
+  }
+}
+
 TEST(MlSlamSolver, CardinalityMovesRaiseTheLikelihood) {
   const auto p = test::make_problem(40, 6, 0.9, 1.0, 12);
   Slam2D::LandmarkList start(p.landmarks.begin() + 1, p.landmarks.end());  // one missing
@@ -224,6 +238,41 @@ TEST(MlSlamSolver, AStopEndsTheRoundsWithTheLastRoundsEstimate) {
   EXPECT_LE(x4.size(), 21u);
   EXPECT_LT(x4.size(), p.scans.size());
   EXPECT_EQ((x4.size() - 1) % 5, 0u);
+}
+
+TEST(MlSlamSolver, AWindowedStandaloneSolveKeepsTheGrowingSolvesAccuracy) {
+  // a 3.5 m sensor on the 4 m circle: each landmark leaves the view and comes back, 100 steps ≈ 2 laps
+  const auto p = test::make_problem(100, 8, 0.9, 1.0, 21, 3.5);
+  MlSlamConfig growing;
+  growing.incremental_steps = 5;
+  MlSlamConfig windowed = growing;
+  windowed.incremental_window = 15;
+  Slam2D::PoseList xg, xw;
+  Slam2D::LandmarkList mg, mw;
+  const MlSlamReport rg =
+      Slam2D(p.motion, p.model, growing).solve_from_odometry(p.truth[0], p.controls, p.scans, xg, mg);
+  const MlSlamReport rw =
+      Slam2D(p.motion, p.model, windowed).solve_from_odometry(p.truth[0], p.controls, p.scans, xw, mw);
+  // the same optimum (l to 1 nat, the eight landmarks) from windows of 15 steps as from solving every step
+  // so far at each increment; dead reckoning ends about 1 m off
+  ASSERT_GT(test::max_position_error(p.odometry, p.truth), 0.5);
+  EXPECT_NEAR(rw.final_log_likelihood, rg.final_log_likelihood, 1.0);
+  EXPECT_EQ(mg.size(), 8u);
+  EXPECT_EQ(mw.size(), 8u);
+  EXPECT_LT(test::max_position_error(xg, p.truth), 0.1);
+  EXPECT_LT(test::max_position_error(xw, p.truth), 0.1);
+  // a window as long as the problem is the growing solve
+  MlSlamConfig long_window = growing;
+  long_window.incremental_window = 100;
+  Slam2D::PoseList xl;
+  Slam2D::LandmarkList ml;
+  const MlSlamReport rl =
+      Slam2D(p.motion, p.model, long_window).solve_from_odometry(p.truth[0], p.controls, p.scans, xl, ml);
+  EXPECT_EQ(rl.final_log_likelihood, rg.final_log_likelihood);
+  ASSERT_EQ(xl.size(), xg.size());
+  for (std::size_t k = 0; k < xl.size(); ++k) EXPECT_EQ(xl[k], xg[k]);
+  ASSERT_EQ(ml.size(), mg.size());
+  for (std::size_t j = 0; j < ml.size(); ++j) EXPECT_EQ(ml[j], mg[j]);
 }
 
 TEST(MlSlamSolver, SameInputSameOutputAtAnyThreadCount) {
