@@ -77,7 +77,8 @@ void write_victoria_park_outputs(const std::filesystem::path& out, const Victori
   j["format"] = "victoria_park";
   j["algorithm"] = cfg.algorithm;
   j["refine"] = options.refine;
-  j["particles"] = cfg.algorithm == "deadreckoning" ? 1 : cfg.rbpf.particles;
+  // dead reckoning and the standalone RFS-ML solve carry one estimate, not particles
+  j["particles"] = cfg.algorithm == "deadreckoning" || cfg.algorithm == "mlslam" ? 1 : cfg.rbpf.particles;
   j["seed"] = cfg.rbpf.seed;
   j["threads"] = thread_count();
   j["frames"] = rec.poses.size();

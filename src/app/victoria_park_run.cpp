@@ -174,8 +174,8 @@ int run_victoria_park(const RunOptions& options) {
     if (a != "glmb2" && a != "glmb1" && a != "glmb-mh" && a != "phd1" && a != "phd3" &&
         a != "deadreckoning" && a != "mlslam" && a != "lmb" && a != "lmb1" && a != "fastslam2")
       throw ConfigError(
-          "--algorithm for Victoria Park must be glmb2, glmb1, glmb-mh, phd1, phd3, lmb, lmb1, fastslam2 or "
-          "deadreckoning (got '" +
+          "--algorithm for Victoria Park must be glmb2, glmb1, glmb-mh, phd1, phd3, lmb, lmb1, fastslam2, "
+          "mlslam or deadreckoning (got '" +
           a + "')");
     cfg.algorithm = a;
   }
@@ -209,14 +209,15 @@ int run_victoria_park(const RunOptions& options) {
 
   const Motion motion(cfg.motion);
   const Meas model(cfg.measurement);
+  const bool one_estimate = cfg.algorithm == "deadreckoning" || cfg.algorithm == "mlslam";
   spdlog::info("Victoria Park: {} steps over {:.1f} s, algorithm {}, {} particles, seed {}", times.size(),
                times.empty() ? 0.0 : times.back() - data.odometry.time_s.front(), cfg.algorithm,
-               cfg.rbpf.particles, cfg.rbpf.seed);
+               one_estimate ? 1 : cfg.rbpf.particles, cfg.rbpf.seed);
   VpRunRecord rec;
   set_graceful_interrupts(true);  // SIGINT/SIGTERM: stop at the next scan and write the steps done
   if (!options.refine.empty() && options.refine != "ml")
     throw ConfigError("--refine must be ml (got '" + options.refine + "')");
-  if (cfg.algorithm == "deadreckoning" || cfg.algorithm == "mlslam") {
+  if (one_estimate) {
     DeadReckoning f(motion, cfg.initial_pose);
     rec = run_filter(f, controls, measurements, 1);
   } else if (cfg.algorithm == "phd1" || cfg.algorithm == "phd3") {
