@@ -287,7 +287,8 @@ void set_phdslam3_defaults(backend::RbpfConfig& r) {
 /// stops short of the optimum (42 nats lower on run 1, docs/investigations.md); on the tuning realisations
 /// 100–115 the undamped solve gives 1.434 m / GOSPA 18.4 m per run against 1.667 m / 21.4 m, and is faster.
 /// Each M-step runs to convergence (50 iterations; 200 give the same runs 0–9): runs 0–99 per run 1.440 m /
-/// GOSPA 18.9 m against 1.881 m / 24.6 m with 10 ("phdslam3: the motion factor in the previous pose's frame").
+/// GOSPA 18.9 m against 1.881 m / 24.6 m with 10 (docs/investigations.md, "phdslam3: the motion factor in
+/// the previous pose's frame").
 void set_phdslam3_ml_defaults(backend::MlSlamConfig& ml) {
   ml.initial_trust_region_radius = 1e8;
   ml.solver_iterations = 50;

@@ -39,6 +39,12 @@ struct VictoriaParkConfig {
   int threads = 1;  ///< worker threads (0 = all cores); 1 = the published single-core protocol
 };
 
+/// The particles the run's estimate carries: 1 for dead reckoning and the standalone RFS-ML solve (one
+/// estimate each), rbpf.particles for the filters.
+inline int victoria_park_particles(const VictoriaParkConfig& c) {
+  return c.algorithm == "deadreckoning" || c.algorithm == "mlslam" ? 1 : c.rbpf.particles;
+}
+
 /// The protocol defaults (incl. the δ-GLMB/RBPF settings used for Victoria Park).
 VictoriaParkConfig default_victoria_park_config();
 

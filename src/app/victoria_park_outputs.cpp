@@ -77,8 +77,7 @@ void write_victoria_park_outputs(const std::filesystem::path& out, const Victori
   j["format"] = "victoria_park";
   j["algorithm"] = cfg.algorithm;
   j["refine"] = options.refine;
-  // dead reckoning and the standalone RFS-ML solve carry one estimate, not particles
-  j["particles"] = cfg.algorithm == "deadreckoning" || cfg.algorithm == "mlslam" ? 1 : cfg.rbpf.particles;
+  j["particles"] = victoria_park_particles(cfg);
   j["seed"] = cfg.rbpf.seed;
   j["threads"] = thread_count();
   j["frames"] = rec.poses.size();

@@ -209,15 +209,14 @@ int run_victoria_park(const RunOptions& options) {
 
   const Motion motion(cfg.motion);
   const Meas model(cfg.measurement);
-  const bool one_estimate = cfg.algorithm == "deadreckoning" || cfg.algorithm == "mlslam";
   spdlog::info("Victoria Park: {} steps over {:.1f} s, algorithm {}, {} particles, seed {}", times.size(),
                times.empty() ? 0.0 : times.back() - data.odometry.time_s.front(), cfg.algorithm,
-               one_estimate ? 1 : cfg.rbpf.particles, cfg.rbpf.seed);
+               victoria_park_particles(cfg), cfg.rbpf.seed);
   VpRunRecord rec;
   set_graceful_interrupts(true);  // SIGINT/SIGTERM: stop at the next scan and write the steps done
   if (!options.refine.empty() && options.refine != "ml")
     throw ConfigError("--refine must be ml (got '" + options.refine + "')");
-  if (one_estimate) {
+  if (cfg.algorithm == "deadreckoning" || cfg.algorithm == "mlslam") {
     DeadReckoning f(motion, cfg.initial_pose);
     rec = run_filter(f, controls, measurements, 1);
   } else if (cfg.algorithm == "phd1" || cfg.algorithm == "phd3") {

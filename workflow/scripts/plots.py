@@ -186,13 +186,11 @@ def rfs_vs_vector_ml(rows, path):
     labels = {"rfs": "RFS-ML (Eq. 7)", "nearest_neighbour": "vector ML, nearest neighbour (Eq. 4)"}
     for assoc in sorted({a for a, _ in rmse}):
         lams = sorted(lam for a, lam in rmse if a == assoc)
+        label = labels.get(assoc, assoc)
         m = [stats(rmse[(assoc, x)]) for x in lams]
-        axes[0].errorbar(lams, [v[0] for v in m], yerr=[v[1] for v in m], marker="o", capsize=3,
-                         label=labels.get(assoc, assoc))
-        axes[1].plot(lams, [stats(list(ospa[(assoc, x)].values()))[0] for x in lams], marker="o",
-                     label=labels.get(assoc, assoc))
-        axes[2].plot(lams, [stats(list(card[(assoc, x)].values()))[0] for x in lams], marker="o",
-                     label=labels.get(assoc, assoc))
+        axes[0].errorbar(lams, [v[0] for v in m], yerr=[v[1] for v in m], marker="o", capsize=3, label=label)
+        for ax, per_job in ((axes[1], ospa), (axes[2], card)):
+            ax.plot(lams, [stats(list(per_job[(assoc, x)].values()))[0] for x in lams], marker="o", label=label)
     lams = sorted(dr)
     axes[0].plot(lams, [stats(list(dr[x].values()))[0] for x in lams], "k--", label="dead reckoning")
     for ax, ylabel in zip(axes, ("position RMSE per run (m)", "map OSPA, c = 1 m (m)", "cardinality error")):
