@@ -1,7 +1,7 @@
 #pragma once
 // The models `glmbslam sim` hands its filters and the RFS-ML solver for a 2D scenario: the range-bearing
 // sensor and the motion model of the generator (src/sim), so that on the synthetic benchmarks the models are
-// exact. Used by sim_runner.cpp and the micro-benchmarks (bench/).
+// exact. Used by sim_filter_run.cpp and the micro-benchmarks (bench/).
 #include "backend/models/range_bearing_model.hpp"
 #include "backend/models/steering_motion.hpp"
 #include "backend/models/unicycle_motion.hpp"

@@ -9,6 +9,9 @@
 // paper2019 (steering model, 360° 3 m sensor, λ_c from --clutter, default 5; one data realisation, the runs
 // differ in the filter's randomness), phdslam3 (Environment_SLAM.mat, regenerated per run), paper004 (paper
 // 004's 2D problem) and paper004_1d (its 1D problem, RFS-ML only: app/sim_line_runner.hpp).
+//
+// Stages: sim_filters.hpp (settings), sim_options_check.hpp, sim_scenarios.hpp, sim_monte_carlo.hpp (runs of
+// sim_filter_run.hpp), sim_metrics.hpp, sim_outputs.hpp (plots, metrics.json, report.html).
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -20,7 +23,7 @@ namespace glmbslam::app {
 struct SimOptions {
   /// paper2019 | phdslam3 | paper004 | paper004_1d (app/sim_line_runner.hpp)
   std::string scenario = "paper2019";
-  std::string algorithm = "glmb2";  ///< glmb2 | glmb1 | glmb_mh | phd1 | phd3 | dr | mlslam
+  std::string algorithm = "glmb2";  ///< one of kSimAlgorithms (app/sim_options_check.hpp)
   std::string refine;               ///< "" or "ml": RFS-ML refinement of the filter's estimate
   /// Particles per filter; unset = the config file's rbpf.particles (phd.particles for phd1/phd3), or 10.
   std::optional<int> particles;
