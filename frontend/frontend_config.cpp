@@ -52,6 +52,7 @@ FrontendConfig load_frontend_config(ConfigNode& node) {
     n.read_in_range("refine_rounds", v.refine_rounds, 1, 10);
     n.read_in_range("max_iterations", v.max_iterations, 1, 1000);
     n.read("rematch_after_pnp", v.rematch_after_pnp);
+    n.read("consensus_first", v.consensus_first);
     n.read_in_range("repeat_sigma_translation_m", v.repeat_sigma_translation_m, 1e-6, 1e3);
     n.read_in_range("repeat_sigma_rotation_rad", v.repeat_sigma_rotation_rad, 1e-7, 3.2);
     n.read_in_range("fallback_covariance_scale", v.fallback_covariance_scale, 1.0, 1e6);

@@ -57,6 +57,10 @@ struct VoConfig {
   int refine_rounds = 2;                 ///< motion-only refinement solve / reject rounds
   int max_iterations = 10;               ///< solver iterations per round
   bool rematch_after_pnp = true;         ///< redo guided matching with the PnP pose before refinement
+  /// With rematch_after_pnp: refine the RANSAC consensus first, rematch at its pose and drop the rematched
+  /// pairs that fail the χ² gate there before the refinement (a moving car's points); false: rematch at the
+  /// RANSAC pose and refine all rematched pairs.
+  bool consensus_first = false;
   /// A byte-identical repeat of the previous stereo pair (a duplicated frame in a log) gets zero motion with
   /// these standard deviations; a still scene is tracked like any other frame.
   double repeat_sigma_translation_m = 0.001;

@@ -239,6 +239,7 @@ PoseRefinementResult refine_ceres(const StereoCamera& camera, const std::vector<
   const std::size_t n = points.size();
   WhitenedModel model(camera, points);
   model.update_whitening(initial_T_ref_cur, result.inlier);
+  if (options.gate_at_start) gate_points(model, points, initial_T_ref_cur, options, &result.inlier);
   double pose[7];
   pose_to_block(initial_T_ref_cur, pose);
 
@@ -315,6 +316,7 @@ PoseRefinementResult refine_gauss_newton(const StereoCamera& camera, const std::
   PoseRefinementResult result = initial_result(points, initial_T_ref_cur);
   WhitenedModel model(camera, points);
   model.update_whitening(initial_T_ref_cur, result.inlier);
+  if (options.gate_at_start) gate_points(model, points, initial_T_ref_cur, options, &result.inlier);
   const double delta = options.huber_delta;
   Pose3 T = initial_T_ref_cur;
 

@@ -48,6 +48,9 @@ struct PoseRefinementOptions {
   double chi2_threshold = 7.815;  ///< 3-dof gate; the 2-dof gate is scaled by 5.991 / 7.815
   int rounds = 2;                 ///< solve / reject rounds (another round only if the gate removed points)
   int max_iterations = 10;        ///< solver iterations per round
+  /// Apply the gate at the initial pose too, before the first round (the start is already a refined pose,
+  /// and points that fail there must not pull the first round's Huber solve).
+  bool gate_at_start = false;
 };
 
 /// The refinement options of a VO configuration (refiner, huber_delta, chi2_threshold, rounds, iterations).

@@ -316,49 +316,31 @@ VoEstimate StereoVisualOdometry::track(const StereoFrameFeatures& frame, double 
   }
   Pose3 T_ref_cur = T_cur_ref.inverse();
 
+  PoseRefinementOptions opt = pose_refinement_options(config_);
   std::vector<char> use(matches.size(), 0);
+  for (int i : pnp_inliers) use[static_cast<std::size_t>(i)] = 1;
   if (config_.rematch_after_pnp) {
+    if (config_.consensus_first) {
+      // The RANSAC consensus alone first, and the rematched pairs gated at its pose: a Huber solve from the
+      // RANSAC pose over all rematched pairs lets a well-textured moving car pull the motion to a compromise
+      // both fit (docs/investigations.md "Moving objects").
+      const PoseRefinementResult consensus =
+          refine_stereo_pose(camera_, tracked_points(frame, matches, use).points, T_ref_cur, opt);
+      if (consensus.success && consensus.inliers >= config_.min_inliers) {
+        T_ref_cur = consensus.T_ref_cur;
+        opt.gate_at_start = true;
+      }
+    }
     matches = guided_match(frame, T_ref_cur, std::max(4.0, config_.search_radius_px * 0.5));
     use.assign(matches.size(), 1);
-  } else {
-    for (int i : pnp_inliers) use[static_cast<std::size_t>(i)] = 1;
   }
 
   // Two-view stereo bundle adjustment.
-  std::vector<TrackedPoint> tracked;
-  std::vector<int> tracked_ref, tracked_cur;  // per point: previous measurement, current one (−1: mono)
-  std::vector<int> octaves;                   // per point: the higher of its two keypoints' levels
-  tracked.reserve(matches.size());
-  tracked_ref.reserve(matches.size());
-  tracked_cur.reserve(matches.size());
-  for (std::size_t i = 0; i < matches.size(); ++i) {
-    if (!use[i]) continue;
-    const StereoMeasurement& r = ref_.measurements[static_cast<std::size_t>(matches[i].ref)];
-    const cv::KeyPoint& kp = frame.left.keypoints[static_cast<std::size_t>(matches[i].cur)];
-    TrackedPoint t;
-    t.point_ref = r.point;
-    t.z_ref = r.z;
-    t.sigma_ref = r.pixel_sigma;
-    const int mi = frame.left_to_measurement.empty()
-                       ? -1
-                       : frame.left_to_measurement[static_cast<std::size_t>(matches[i].cur)];
-    if (mi >= 0) {
-      const StereoMeasurement& c = frame.measurements[static_cast<std::size_t>(mi)];
-      t.z_cur = c.z;
-      t.sigma_cur = c.pixel_sigma;
-      t.cur_stereo = true;
-    } else {
-      t.z_cur = Eigen::Vector3d(kp.pt.x, kp.pt.y, 0.0);
-      t.sigma_cur = r.pixel_sigma / scales_[static_cast<std::size_t>(r.octave)] *
-                    scales_[static_cast<std::size_t>(kp.octave)];
-      t.cur_stereo = false;
-    }
-    tracked.push_back(t);
-    tracked_ref.push_back(matches[i].ref);
-    tracked_cur.push_back(mi);
-    octaves.push_back(std::max(r.octave, kp.octave));
-  }
-  const PoseRefinementOptions opt = pose_refinement_options(config_);
+  TrackedPoints set = tracked_points(frame, matches, use);
+  std::vector<TrackedPoint>& tracked = set.points;
+  std::vector<int>& tracked_ref = set.ref;  // per point: previous measurement
+  std::vector<int>& tracked_cur = set.cur;  // per point: current measurement (−1: mono)
+  std::vector<int>& octaves = set.octaves;  // per point: the higher of its two keypoints' levels
   const PoseRefinementResult res = refine_stereo_pose(camera_, tracked, T_ref_cur, opt);
   if (!res.success || res.inliers < config_.min_inliers) {
     spdlog::warn("vo: frame {}: refinement kept {} of {} points → constant-velocity fallback", k, res.inliers,
@@ -394,6 +376,40 @@ VoEstimate StereoVisualOdometry::track(const StereoFrameFeatures& frame, double 
   last_covariance_ = e.covariance;
   set_reference(frame);
   return finish(e);
+}
+
+StereoVisualOdometry::TrackedPoints StereoVisualOdometry::tracked_points(const StereoFrameFeatures& frame,
+                                                                         const std::vector<Match>& matches,
+                                                                         const std::vector<char>& use) const {
+  TrackedPoints set;
+  for (std::size_t i = 0; i < matches.size(); ++i) {
+    if (!use[i]) continue;
+    const StereoMeasurement& r = ref_.measurements[static_cast<std::size_t>(matches[i].ref)];
+    const cv::KeyPoint& kp = frame.left.keypoints[static_cast<std::size_t>(matches[i].cur)];
+    TrackedPoint t;
+    t.point_ref = r.point;
+    t.z_ref = r.z;
+    t.sigma_ref = r.pixel_sigma;
+    const int mi = frame.left_to_measurement.empty()
+                       ? -1
+                       : frame.left_to_measurement[static_cast<std::size_t>(matches[i].cur)];
+    if (mi >= 0) {
+      const StereoMeasurement& c = frame.measurements[static_cast<std::size_t>(mi)];
+      t.z_cur = c.z;
+      t.sigma_cur = c.pixel_sigma;
+      t.cur_stereo = true;
+    } else {
+      t.z_cur = Eigen::Vector3d(kp.pt.x, kp.pt.y, 0.0);
+      t.sigma_cur = r.pixel_sigma / scales_[static_cast<std::size_t>(r.octave)] *
+                    scales_[static_cast<std::size_t>(kp.octave)];
+      t.cur_stereo = false;
+    }
+    set.points.push_back(t);
+    set.ref.push_back(matches[i].ref);
+    set.cur.push_back(mi);
+    set.octaves.push_back(std::max(r.octave, kp.octave));
+  }
+  return set;
 }
 
 VoEstimate StereoVisualOdometry::excluding(const VoEstimate& full, const std::vector<char>& excluded) const {

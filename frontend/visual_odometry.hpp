@@ -100,6 +100,14 @@ class StereoVisualOdometry {
   /// least min_inliers inliers (rvec, tvec: the current camera in the reference frame, OpenCV convention).
   bool pnp_ransac(const StereoFrameFeatures& frame, const std::vector<Match>& matches, std::size_t k,
                   cv::Mat& rvec, cv::Mat& tvec, std::vector<int>& inliers) const;
+  /// The matches marked in `use` as refinement input (the current stereo measurement where there is one).
+  struct TrackedPoints {
+    std::vector<TrackedPoint> points;
+    std::vector<int> ref, cur;  ///< per point: previous measurement, current one (−1: mono)
+    std::vector<int> octaves;   ///< per point: the higher of its two keypoints' levels
+  };
+  TrackedPoints tracked_points(const StereoFrameFeatures& frame, const std::vector<Match>& matches,
+                               const std::vector<char>& use) const;
   VoEstimate fallback(VoStatus status);
   VoEstimate repeat() const;
   void set_reference(const StereoFrameFeatures& frame);

@@ -11,12 +11,14 @@ namespace glmbslam::frontend {
 namespace {
 
 TEST(FrontendConfig, ReadsValuesAndKeepsDefaults) {
-  ConfigNode node = ConfigNode::parse("orb: {features: 1000, levels: 4}\nvo: {min_inliers: 30}\n", "test");
+  ConfigNode node = ConfigNode::parse(
+      "orb: {features: 1000, levels: 4}\nvo: {min_inliers: 30, consensus_first: true}\n", "test");
   const FrontendConfig c = load_frontend_config(node);
   EXPECT_EQ(c.orb.features, 1000);
   EXPECT_EQ(c.orb.levels, 4);
   EXPECT_DOUBLE_EQ(c.orb.scale_factor, 1.2);
   EXPECT_EQ(c.vo.min_inliers, 30);
+  EXPECT_TRUE(c.vo.consensus_first);
   EXPECT_EQ(c.stereo.max_hamming, StereoMatchConfig{}.max_hamming);
 }
 
@@ -64,6 +66,8 @@ TEST(FrontendConfig, DefaultsFileMatchesCode) {
   EXPECT_EQ(c.vo.refiner, d.vo.refiner);
   EXPECT_DOUBLE_EQ(c.vo.huber_delta, d.vo.huber_delta);
   EXPECT_EQ(c.vo.min_inliers, d.vo.min_inliers);
+  EXPECT_EQ(c.vo.rematch_after_pnp, d.vo.rematch_after_pnp);
+  EXPECT_EQ(c.vo.consensus_first, d.vo.consensus_first);
   EXPECT_DOUBLE_EQ(c.vo.fallback_sigma_translation_m, d.vo.fallback_sigma_translation_m);
 }
 
