@@ -273,39 +273,62 @@ VoEstimate StereoVisualOdometry::track(const StereoFrameFeatures& frame, double 
     return finish(fallback(VoStatus::kNoFeatures));
   }
 
+  // A lost frame: constant velocity, and the current frame becomes the reference.
+  auto lost = [&](VoStatus status, std::size_t matches) {
+    VoEstimate e = fallback(status);
+    e.matches = static_cast<int>(matches);
+    set_reference(frame);
+    return finish(e);
+  };
+  RansacStart start = ransac_start(frame, k, T_ref_prev_ * velocity);
+  if (start.status != VoStatus::kTracked) return lost(start.status, start.matches.size());
+  PoseRefinementOptions opt = pose_refinement_options(config_);
+  const std::vector<Match> matches = refinement_matches(frame, start, opt);
+
+  // Two-view stereo bundle adjustment.
+  TrackedPoints tracked = tracked_points(frame, matches, std::vector<char>(matches.size(), 1));
+  const PoseRefinementResult res = refine_stereo_pose(camera_, tracked.points, start.T_ref_cur, opt);
+  if (!res.success || res.inliers < config_.min_inliers) {
+    spdlog::warn("vo: frame {}: refinement kept {} of {} points → constant-velocity fallback", k, res.inliers,
+                 tracked.points.size());
+    return lost(VoStatus::kTooFewInliers, matches.size());
+  }
+  VoEstimate e = accept(frame, timestamp, std::move(tracked), res);
+  // the temporal correspondences found: the rematch's, or all that RANSAC saw
+  e.matches = static_cast<int>(config_.rematch_after_pnp ? matches.size() : start.matches.size());
+  return finish(e);
+}
+
+StereoVisualOdometry::RansacStart StereoVisualOdometry::ransac_start(const StereoFrameFeatures& frame,
+                                                                     std::size_t k,
+                                                                     const Pose3& T_pred) const {
   // Guided matching with the constant-velocity prediction, then EPnP + RANSAC on (reference 3D point, current
   // left pixel). The wide window is used when the velocity is unknown, and tried again when the narrow one
   // finds too few matches or matches that PnP rejects (a sharp turn moves the features beyond the narrow
   // window, which then holds mostly wrong candidates).
-  const Pose3 T_pred = T_ref_prev_ * velocity;
-  std::vector<Match> matches;
+  RansacStart start;
   cv::Mat rvec, tvec;
-  std::vector<int> pnp_inliers;
   bool ok = false;
   for (int attempt = velocity_known_ ? 0 : 1; attempt < 2 && !ok; ++attempt) {
     const double radius = attempt == 0 ? config_.search_radius_px : config_.wide_search_radius_px;
-    matches = guided_match(frame, T_pred, radius);
-    if (static_cast<int>(matches.size()) < config_.min_matches) continue;
-    ok = pnp_ransac(frame, matches, k, rvec, tvec, pnp_inliers);
+    start.matches = guided_match(frame, T_pred, radius);
+    if (static_cast<int>(start.matches.size()) < config_.min_matches) continue;
+    ok = pnp_ransac(frame, start.matches, k, rvec, tvec, start.inliers);
     if (!ok && attempt == 0) {
       spdlog::debug("vo: frame {}: PnP kept {} of {} matches in the narrow window, trying the wide one", k,
-                    pnp_inliers.size(), matches.size());
+                    start.inliers.size(), start.matches.size());
     }
   }
-  if (static_cast<int>(matches.size()) < config_.min_matches) {
-    spdlog::warn("vo: frame {}: {} temporal matches → constant-velocity fallback", k, matches.size());
-    VoEstimate e = fallback(VoStatus::kTooFewMatches);
-    e.matches = static_cast<int>(matches.size());
-    set_reference(frame);
-    return finish(e);
+  if (static_cast<int>(start.matches.size()) < config_.min_matches) {
+    spdlog::warn("vo: frame {}: {} temporal matches → constant-velocity fallback", k, start.matches.size());
+    start.status = VoStatus::kTooFewMatches;
+    return start;
   }
   if (!ok) {
     spdlog::warn("vo: frame {}: PnP kept {} of {} matches → constant-velocity fallback", k,
-                 pnp_inliers.size(), matches.size());
-    VoEstimate e = fallback(VoStatus::kTooFewInliers);
-    e.matches = static_cast<int>(matches.size());
-    set_reference(frame);
-    return finish(e);
+                 start.inliers.size(), start.matches.size());
+    start.status = VoStatus::kTooFewInliers;
+    return start;
   }
   cv::Matx33d Rcv;
   cv::Rodrigues(rvec, Rcv);
@@ -314,58 +337,51 @@ VoEstimate StereoVisualOdometry::track(const StereoFrameFeatures& frame, double 
     for (int c = 0; c < 3; ++c) T_cur_ref.linear()(r, c) = Rcv(r, c);
     T_cur_ref.translation()(r) = tvec.at<double>(r);
   }
-  Pose3 T_ref_cur = T_cur_ref.inverse();
+  start.T_ref_cur = T_cur_ref.inverse();
+  start.status = VoStatus::kTracked;
+  return start;
+}
 
-  PoseRefinementOptions opt = pose_refinement_options(config_);
-  std::vector<char> use(matches.size(), 0);
-  for (int i : pnp_inliers) use[static_cast<std::size_t>(i)] = 1;
-  if (config_.rematch_after_pnp) {
-    if (config_.consensus_first) {
-      // The RANSAC consensus alone first, and the rematched pairs gated at its pose: a Huber solve from the
-      // RANSAC pose over all rematched pairs lets a well-textured moving car pull the motion to a compromise
-      // both fit (docs/investigations.md "Moving objects").
-      const PoseRefinementResult consensus =
-          refine_stereo_pose(camera_, tracked_points(frame, matches, use).points, T_ref_cur, opt);
-      if (consensus.success && consensus.inliers >= config_.min_inliers) {
-        T_ref_cur = consensus.T_ref_cur;
-        opt.gate_at_start = true;
-      }
+std::vector<StereoVisualOdometry::Match> StereoVisualOdometry::refinement_matches(
+    const StereoFrameFeatures& frame, RansacStart& start, PoseRefinementOptions& opt) const {
+  if (!config_.rematch_after_pnp) {
+    std::vector<Match> inliers;
+    inliers.reserve(start.inliers.size());
+    for (int i : start.inliers) inliers.push_back(start.matches[static_cast<std::size_t>(i)]);
+    return inliers;
+  }
+  if (config_.consensus_first) {
+    // The RANSAC consensus alone first, and the rematched pairs gated at its pose: a Huber solve from the
+    // RANSAC pose over all rematched pairs lets a well-textured moving car pull the motion to a compromise
+    // both fit (docs/investigations.md "Moving objects").
+    std::vector<char> use(start.matches.size(), 0);
+    for (int i : start.inliers) use[static_cast<std::size_t>(i)] = 1;
+    const PoseRefinementResult consensus =
+        refine_stereo_pose(camera_, tracked_points(frame, start.matches, use).points, start.T_ref_cur, opt);
+    if (consensus.success && consensus.inliers >= config_.min_inliers) {
+      start.T_ref_cur = consensus.T_ref_cur;
+      opt.gate_at_start = true;
     }
-    matches = guided_match(frame, T_ref_cur, std::max(4.0, config_.search_radius_px * 0.5));
-    use.assign(matches.size(), 1);
   }
+  return guided_match(frame, start.T_ref_cur, std::max(4.0, config_.search_radius_px * 0.5));
+}
 
-  // Two-view stereo bundle adjustment.
-  TrackedPoints set = tracked_points(frame, matches, use);
-  std::vector<TrackedPoint>& tracked = set.points;
-  std::vector<int>& tracked_ref = set.ref;  // per point: previous measurement
-  std::vector<int>& tracked_cur = set.cur;  // per point: current measurement (−1: mono)
-  std::vector<int>& octaves = set.octaves;  // per point: the higher of its two keypoints' levels
-  const PoseRefinementResult res = refine_stereo_pose(camera_, tracked, T_ref_cur, opt);
-  if (!res.success || res.inliers < config_.min_inliers) {
-    spdlog::warn("vo: frame {}: refinement kept {} of {} points → constant-velocity fallback", k, res.inliers,
-                 tracked.size());
-    VoEstimate e = fallback(VoStatus::kTooFewInliers);
-    e.matches = static_cast<int>(matches.size());
-    set_reference(frame);
-    return finish(e);
-  }
-
-  estimate_noise(tracked, octaves, res);
+VoEstimate StereoVisualOdometry::accept(const StereoFrameFeatures& frame, double timestamp,
+                                        TrackedPoints tracked, const PoseRefinementResult& res) {
+  estimate_noise(tracked.points, tracked.octaves, res);
   VoEstimate e;
   e.status = VoStatus::kTracked;
   e.relative_pose = T_ref_prev_.inverse() * res.T_ref_cur;
   e.covariance = res.covariance;
-  e.matches = static_cast<int>(matches.size());
   e.inliers = res.inliers;
   e.previous_measurement.assign(frame.measurements.size(), -1);
-  for (std::size_t i = 0; i < tracked.size(); ++i) {
-    if (res.inlier[i] && tracked_cur[i] >= 0)
-      e.previous_measurement[static_cast<std::size_t>(tracked_cur[i])] = tracked_ref[i];
+  for (std::size_t i = 0; i < tracked.points.size(); ++i) {
+    if (res.inlier[i] && tracked.cur[i] >= 0)
+      e.previous_measurement[static_cast<std::size_t>(tracked.cur[i])] = tracked.ref[i];
   }
   // kept for excluding()
-  last_tracked_ = std::move(tracked);
-  last_tracked_current_ = std::move(tracked_cur);
+  last_tracked_ = std::move(tracked.points);
+  last_tracked_current_ = std::move(tracked.cur);
   last_T_ref_cur_ = res.T_ref_cur;
   last_T_ref_prev_ = T_ref_prev_;
   velocity_ = e.relative_pose;
@@ -375,7 +391,7 @@ VoEstimate StereoVisualOdometry::track(const StereoFrameFeatures& frame, double 
   velocity_known_ = true;
   last_covariance_ = e.covariance;
   set_reference(frame);
-  return finish(e);
+  return e;
 }
 
 StereoVisualOdometry::TrackedPoints StereoVisualOdometry::tracked_points(const StereoFrameFeatures& frame,

@@ -108,6 +108,23 @@ class StereoVisualOdometry {
   };
   TrackedPoints tracked_points(const StereoFrameFeatures& frame, const std::vector<Match>& matches,
                                const std::vector<char>& use) const;
+  /// Guided matching around the predicted pose and EPnP-RANSAC: the matches, RANSAC's inliers among them and
+  /// its pose; status kTracked, or the reason to fall back (kTooFewMatches, kTooFewInliers).
+  struct RansacStart {
+    std::vector<Match> matches;
+    std::vector<int> inliers;
+    Pose3 T_ref_cur = Pose3::Identity();
+    VoStatus status = VoStatus::kTracked;
+  };
+  RansacStart ransac_start(const StereoFrameFeatures& frame, std::size_t k, const Pose3& T_pred) const;
+  /// The pairs the refinement takes: RANSAC's inliers, or (vo.rematch_after_pnp) guided matching again at
+  /// its pose; with vo.consensus_first at the pose refined from RANSAC's inliers, which then becomes
+  /// start.T_ref_cur, and opt gates at the start.
+  std::vector<Match> refinement_matches(const StereoFrameFeatures& frame, RansacStart& start,
+                                        PoseRefinementOptions& opt) const;
+  /// The refined motion accepted: the estimate, and the state for the next frame and excluding().
+  VoEstimate accept(const StereoFrameFeatures& frame, double timestamp, TrackedPoints tracked,
+                    const PoseRefinementResult& res);
   VoEstimate fallback(VoStatus status);
   VoEstimate repeat() const;
   void set_reference(const StereoFrameFeatures& frame);
