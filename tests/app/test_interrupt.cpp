@@ -65,6 +65,7 @@ pid_t start_run(const fs::path& out, const std::vector<std::string>& extra = {})
       "--threads", "1",          "--log-level", "warn", "run", rendered_sequence().string(),
       "--out",     out.string(), "--particles", "5"};
   args.insert(args.end(), extra.begin(), extra.end());
+  glmbslam::test::remove_after_test(out.string() + ".log");
   return glmbslam::test::start_glmbslam(args, out.string() + ".log");
 }
 

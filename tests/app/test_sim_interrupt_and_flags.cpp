@@ -89,6 +89,7 @@ TEST(SimInterrupt, SigtermKeepsTheFinishedRunsAndExits143) {
   if (!fs::exists(test::glmbslam_binary())) GTEST_SKIP() << "glmbslam executable not built";
   const fs::path out = test::fresh_temp_dir("sim_interrupt");
   const fs::path log = out.string() + ".log";
+  glmbslam::test::remove_after_test(log);
   fs::remove(log);            // a previous run's log would be read as this run's progress
   constexpr int kRuns = 200;  // far more than finish before the signal, even on a fast machine
   const pid_t pid = test::start_glmbslam(

@@ -1,8 +1,11 @@
 #pragma once
 // Locating the shared real data for tests: GLMBSLAM_DATA overrides the compiled-in default (../shared/data).
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <string>
+#include <system_error>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -21,7 +24,42 @@ inline std::filesystem::path glmbslam_binary() {
   return std::filesystem::path(GLMBSLAM_BINARY);
 }
 
-/// A fresh, empty temporary directory unique to the running test.
+/// Removes the directories fresh_temp_dir() made for a test when that test ends, unless it failed: those are
+/// kept for inspection and their paths printed.
+class TempDirCleanup : public ::testing::EmptyTestEventListener {
+ public:
+  static std::vector<std::filesystem::path>& pending() {
+    static std::vector<std::filesystem::path> dirs;
+    return dirs;
+  }
+  void OnTestEnd(const ::testing::TestInfo& info) override {
+    for (const auto& dir : pending()) {
+      if (info.result() != nullptr && info.result()->Failed()) {
+        std::fprintf(stderr, "test output kept in %s\n", dir.string().c_str());
+      } else {
+        std::error_code ignored;
+        std::filesystem::remove_all(dir, ignored);
+      }
+    }
+    pending().clear();
+  }
+  /// Installs the listener once per test binary (from fresh_temp_dir(), inside a running test).
+  static void install() {
+    static const bool installed = [] {
+      ::testing::UnitTest::GetInstance()->listeners().Append(new TempDirCleanup);  // gtest owns it
+      return true;
+    }();
+    (void)installed;
+  }
+};
+
+/// Removes `path` (a file or a folder) when the running test ends, unless it fails.
+inline void remove_after_test(const std::filesystem::path& path) {
+  TempDirCleanup::install();
+  TempDirCleanup::pending().push_back(path);
+}
+
+/// A fresh, empty temporary directory unique to the running test, removed when the test passes.
 inline std::filesystem::path fresh_temp_dir(const std::string& tag) {
   const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
   std::string name = tag;
@@ -34,6 +72,7 @@ inline std::filesystem::path fresh_temp_dir(const std::string& tag) {
   auto dir = std::filesystem::temp_directory_path() / ("glmbslam_test_" + name);
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
+  if (info != nullptr) remove_after_test(dir);
   return dir;
 }
 
