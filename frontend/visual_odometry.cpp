@@ -286,7 +286,7 @@ VoEstimate StereoVisualOdometry::track(const StereoFrameFeatures& frame, double 
   const std::vector<Match> matches = refinement_matches(frame, start, opt);
 
   // Two-view stereo bundle adjustment.
-  TrackedPoints tracked = tracked_points(frame, matches, std::vector<char>(matches.size(), 1));
+  TrackedPoints tracked = tracked_points(frame, matches);
   const PoseRefinementResult res = refine_stereo_pose(camera_, tracked.points, start.T_ref_cur, opt);
   if (!res.success || res.inliers < config_.min_inliers) {
     spdlog::warn("vo: frame {}: refinement kept {} of {} points → constant-velocity fallback", k, res.inliers,
@@ -344,20 +344,19 @@ StereoVisualOdometry::RansacStart StereoVisualOdometry::ransac_start(const Stere
 
 std::vector<StereoVisualOdometry::Match> StereoVisualOdometry::refinement_matches(
     const StereoFrameFeatures& frame, RansacStart& start, PoseRefinementOptions& opt) const {
-  if (!config_.rematch_after_pnp) {
+  auto consensus_matches = [&start] {  // RANSAC's inliers
     std::vector<Match> inliers;
     inliers.reserve(start.inliers.size());
     for (int i : start.inliers) inliers.push_back(start.matches[static_cast<std::size_t>(i)]);
     return inliers;
-  }
+  };
+  if (!config_.rematch_after_pnp) return consensus_matches();
   if (config_.consensus_first) {
     // The RANSAC consensus alone first, and the rematched pairs gated at its pose: a Huber solve from the
     // RANSAC pose over all rematched pairs lets a well-textured moving car pull the motion to a compromise
     // both fit (docs/investigations.md "Moving objects").
-    std::vector<char> use(start.matches.size(), 0);
-    for (int i : start.inliers) use[static_cast<std::size_t>(i)] = 1;
     const PoseRefinementResult consensus =
-        refine_stereo_pose(camera_, tracked_points(frame, start.matches, use).points, start.T_ref_cur, opt);
+        refine_stereo_pose(camera_, tracked_points(frame, consensus_matches()).points, start.T_ref_cur, opt);
     if (consensus.success && consensus.inliers >= config_.min_inliers) {
       start.T_ref_cur = consensus.T_ref_cur;
       opt.gate_at_start = true;
@@ -394,12 +393,10 @@ VoEstimate StereoVisualOdometry::accept(const StereoFrameFeatures& frame, double
   return e;
 }
 
-StereoVisualOdometry::TrackedPoints StereoVisualOdometry::tracked_points(const StereoFrameFeatures& frame,
-                                                                         const std::vector<Match>& matches,
-                                                                         const std::vector<char>& use) const {
+StereoVisualOdometry::TrackedPoints StereoVisualOdometry::tracked_points(
+    const StereoFrameFeatures& frame, const std::vector<Match>& matches) const {
   TrackedPoints set;
   for (std::size_t i = 0; i < matches.size(); ++i) {
-    if (!use[i]) continue;
     const StereoMeasurement& r = ref_.measurements[static_cast<std::size_t>(matches[i].ref)];
     const cv::KeyPoint& kp = frame.left.keypoints[static_cast<std::size_t>(matches[i].cur)];
     TrackedPoint t;

@@ -100,14 +100,13 @@ class StereoVisualOdometry {
   /// least min_inliers inliers (rvec, tvec: the current camera in the reference frame, OpenCV convention).
   bool pnp_ransac(const StereoFrameFeatures& frame, const std::vector<Match>& matches, std::size_t k,
                   cv::Mat& rvec, cv::Mat& tvec, std::vector<int>& inliers) const;
-  /// The matches marked in `use` as refinement input (the current stereo measurement where there is one).
+  /// `matches` as refinement input (the current stereo measurement where there is one).
   struct TrackedPoints {
     std::vector<TrackedPoint> points;
     std::vector<int> ref, cur;  ///< per point: previous measurement, current one (−1: mono)
     std::vector<int> octaves;   ///< per point: the higher of its two keypoints' levels
   };
-  TrackedPoints tracked_points(const StereoFrameFeatures& frame, const std::vector<Match>& matches,
-                               const std::vector<char>& use) const;
+  TrackedPoints tracked_points(const StereoFrameFeatures& frame, const std::vector<Match>& matches) const;
   /// Guided matching around the predicted pose and EPnP-RANSAC: the matches, RANSAC's inliers among them and
   /// its pose; status kTracked, or the reason to fall back (kTooFewMatches, kTooFewInliers).
   struct RansacStart {

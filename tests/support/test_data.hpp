@@ -24,8 +24,8 @@ inline std::filesystem::path glmbslam_binary() {
   return std::filesystem::path(GLMBSLAM_BINARY);
 }
 
-/// Removes the directories fresh_temp_dir() made for a test when that test ends, unless it failed: those are
-/// kept for inspection and their paths printed.
+/// Removes the folders and files registered by remove_after_test() (fresh_temp_dir()'s among them) when the
+/// test ends, unless it failed: those are kept for inspection and their paths printed.
 class TempDirCleanup : public ::testing::EmptyTestEventListener {
  public:
   static std::vector<std::filesystem::path>& pending() {
