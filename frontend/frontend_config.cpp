@@ -31,6 +31,7 @@ FrontendConfig load_frontend_config(ConfigNode& node) {
     n.read_in_range("sad_search_radius", s.sad_search_radius, 1, 20);
     n.read_in_range("outlier_sad_factor", s.outlier_sad_factor, 1.0, 100.0);
     n.read_choice("subpixel_cost", s.subpixel_cost, {"centre", "zero_mean"});
+    n.read_choice("subpixel_refine", s.subpixel_refine, {"fit", "lk"});
     n.read_in_range("pixel_sigma", s.pixel_sigma, 1e-3, 100.0);
     n.finish();
   }

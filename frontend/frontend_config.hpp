@@ -36,6 +36,11 @@ struct StereoMatchConfig {
   /// (tests/frontend/test_stereo_disparity_bias.cpp), but the filter is tuned for "centre"
   /// (docs/investigations.md).
   std::string subpixel_cost = "centre";
+  /// Sub-pixel u_R: `fit` (the three-point fit of subpixel_cost) or `lk` (then a Lucas–Kanade refinement
+  /// with a brightness offset on the interpolated row, free of the fit's pixel locking; stereo_matcher.cpp).
+  /// On renders `lk` follows a point's disparity from frame to frame more faithfully; the filter is tuned for
+  /// "fit" (docs/investigations.md).
+  std::string subpixel_refine = "fit";
   double pixel_sigma = 1.0;  ///< σ (pixels) of u_L, v, u_R at level 0; × scale_factor^octave above
 };
 

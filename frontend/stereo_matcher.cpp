@@ -96,6 +96,51 @@ void sad_search(const cv::Mat& L, const cv::Mat& R, int xl, int xr0, int y, int 
     sads[inc + radius] = patch_sad_scalar(L, R, xl, xr0 + inc, y, w, offsets[inc + radius]);
 }
 
+/// stereo.subpixel_refine lk: u_R refined by a one-dimensional Lucas–Kanade with a brightness offset,
+///   min over (x_R, β) of Σ_window (I_R(x + x_R − x_L, y) + β − I_L(x, y))²,
+/// Gauss–Newton from the fit's column, I_R linearly interpolated along the rectified row and its gradient the
+/// interpolated central difference (β eliminated in closed form: the window's zero-mean residual and
+/// gradient). A three-point fit to integer-shift costs is pulled towards whole pixels (pixel locking);
+/// interpolating the image instead of the cost is not (rendered frames: bias +0.002 px, MAD 0.08 px against
+/// the centre fit's +0.03 px and 0.36 px; tests/frontend/test_stereo_disparity_bias.cpp). The offset keeps the
+/// left/right exposure difference out: OpenCV's calcOpticalFlowPyrLK, which has none, shortened the VO's path
+/// on KITTI raw 0001 by 0.8 %. Returns false if the window leaves the image, the texture has no horizontal
+/// gradient or the refinement moves more than one pixel from the start.
+bool refine_column_lk(const cv::Mat& L, const cv::Mat& R, int xl, int yl, int w, double* xr) {
+  const double start = *xr;
+  double x = start;
+  for (int it = 0; it < 10; ++it) {
+    const int x0 = static_cast<int>(std::floor(x));  // integer part of the right column
+    const double a = x - x0;
+    if (yl - w < 0 || yl + w >= R.rows || x0 - w - 1 < 0 || x0 + w + 2 >= R.cols) return false;
+    double sg = 0.0, sr = 0.0, sgg = 0.0, sgr = 0.0;
+    for (int dy = -w; dy <= w; ++dy) {
+      const uchar* lrow = L.ptr<uchar>(yl + dy);
+      const uchar* rrow = R.ptr<uchar>(yl + dy);
+      for (int dx = -w; dx <= w; ++dx) {
+        const int c = x0 + dx;
+        const double i0 = rrow[c], i1 = rrow[c + 1];
+        const double g0 = 0.5 * (i1 - rrow[c - 1]), g1 = 0.5 * (rrow[c + 2] - i0);
+        const double g = (1.0 - a) * g0 + a * g1;
+        const double r = (1.0 - a) * i0 + a * i1 - lrow[xl + dx];
+        sg += g;
+        sr += r;
+        sgg += g * g;
+        sgr += g * r;
+      }
+    }
+    const double n = (2.0 * w + 1.0) * (2.0 * w + 1.0);
+    const double hgg = sgg - sg * sg / n, hgr = sgr - sg * sr / n;
+    if (!(hgg > 1e-6 * n)) return false;
+    const double step = -hgr / hgg;
+    x += step;
+    if (std::abs(x - start) > 1.0) return false;
+    if (std::abs(step) < 1e-3) break;
+  }
+  *xr = x;
+  return true;
+}
+
 // Sub-pixel offset of the minimum s2 from its neighbours s1 (left) and s3 (right), in (−1, 1) or outside
 // when the fit fails: a parabola through the three (ORB-SLAM2's), or the equiangular fit — two lines of
 // opposite slope, the interpolation matched to an L1 cost such as SAD (Shimizu & Okutomi 2005).
@@ -200,6 +245,7 @@ StereoMeasurementList StereoMatcher::match(const OrbFeatures& left, const OrbFea
   const int radius = config_.sad_search_radius;
   std::vector<int> sads(static_cast<std::size_t>(2 * radius + 1)), offsets(sads.size()), columns;
   const bool zero_mean = config_.subpixel_cost == "zero_mean";
+  const bool lucas_kanade = config_.subpixel_refine == "lk";
   struct Scored {
     float u;
     int distance;
@@ -277,7 +323,12 @@ StereoMeasurementList StereoMatcher::match(const OrbFeatures& left, const OrbFea
         continue;
       }
     }
-    const double u_r = scale * (xr0 + best_inc + delta);
+    double xr = xr0 + best_inc + delta;
+    if (lucas_kanade && !refine_column_lk(IL, IR, xl, yl, w, &xr)) {
+      ++st.rejected_subpixel;
+      continue;
+    }
+    const double u_r = scale * xr;
     const double disparity = u_l - u_r;
     if (disparity < min_disparity || disparity > max_disparity) {
       ++st.rejected_subpixel;

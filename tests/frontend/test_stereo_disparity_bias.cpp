@@ -32,7 +32,8 @@ double median_of(std::vector<double> x) {
 
 /// Measured minus true disparity (f·b / z of the rendered depth at the keypoint) of every stereo match whose
 /// 3×3 depth neighbourhood is smooth (no object border), over 12 frames of the default loop.
-ErrorStats disparity_errors(const std::string& subpixel_cost, bool photometric_noise) {
+ErrorStats disparity_errors(const std::string& subpixel_cost, bool photometric_noise,
+                            const std::string& subpixel_refine = "fit") {
   const PoseList trajectory = sim::default_trajectory();
   sim::ProceduralWorldOptions wopt;
   wopt.seed = 5;
@@ -43,6 +44,7 @@ ErrorStats disparity_errors(const std::string& subpixel_cost, bool photometric_n
   sim::StereoRenderer renderer(world, calib, ropt);
   FrontendConfig config;
   config.stereo.subpixel_cost = subpixel_cost;
+  config.stereo.subpixel_refine = subpixel_refine;
   const StereoFrontend frontend(calib, config);
   const double fb = calib.fx * calib.baseline;
   std::vector<double> errors;
@@ -71,9 +73,23 @@ ErrorStats disparity_errors(const std::string& subpixel_cost, bool photometric_n
   std::vector<double> deviation;
   for (double e : errors) deviation.push_back(std::abs(e - s.median));
   s.mad = median_of(deviation);
-  std::printf("%-9s photometric noise %d: %zu matches, disparity error median %+.4f px, MAD %.4f px\n",
-              subpixel_cost.c_str(), photometric_noise ? 1 : 0, s.matches, s.median, s.mad);
+  std::printf("%-9s %-3s photometric noise %d: %zu matches, disparity error median %+.4f px, MAD %.4f px\n",
+              subpixel_cost.c_str(), subpixel_refine.c_str(), photometric_noise ? 1 : 0, s.matches, s.median,
+              s.mad);
   return s;
+}
+
+// stereo.subpixel_refine lk from the centre cost's fit: unbiased and as sharp as the zero-mean cost (measured
+// +0.002 / +0.003 px, MAD 0.081 / 0.092 px without / with photometric noise, against the fit's +0.027 / +0.030 px
+// and 0.36 / 0.40 px).
+TEST(StereoDisparityBias, LucasKanadeRefinementIsUnbiasedAndSharperThanTheFit) {
+  for (const bool noise : {false, true}) {
+    const ErrorStats fit = disparity_errors("centre", noise);
+    const ErrorStats lk = disparity_errors("centre", noise, "lk");
+    ASSERT_GT(lk.matches, 5000u);
+    EXPECT_LT(std::abs(lk.median), 0.01);
+    EXPECT_LT(lk.mad, 0.5 * fit.mad);
+  }
 }
 
 TEST(StereoDisparityBias, ZeroMeanCostIsUnbiasedAndSharperThanTheCentreCost) {
