@@ -12,13 +12,17 @@ namespace {
 
 TEST(FrontendConfig, ReadsValuesAndKeepsDefaults) {
   ConfigNode node = ConfigNode::parse(
-      "orb: {features: 1000, levels: 4}\nvo: {min_inliers: 30, consensus_first: true}\n", "test");
+      "orb: {features: 1000, levels: 4}\nvo: {min_inliers: 30, consensus_first: true}\n"
+      "stereo: {subpixel_refine: lk}\n",
+      "test");
   const FrontendConfig c = load_frontend_config(node);
   EXPECT_EQ(c.orb.features, 1000);
   EXPECT_EQ(c.orb.levels, 4);
   EXPECT_DOUBLE_EQ(c.orb.scale_factor, 1.2);
   EXPECT_EQ(c.vo.min_inliers, 30);
   EXPECT_TRUE(c.vo.consensus_first);
+  EXPECT_EQ(c.stereo.subpixel_refine, "lk");
+  EXPECT_EQ(c.stereo.subpixel_cost, StereoMatchConfig{}.subpixel_cost);
   EXPECT_EQ(c.stereo.max_hamming, StereoMatchConfig{}.max_hamming);
 }
 
@@ -33,6 +37,8 @@ TEST(FrontendConfig, UnknownKeyAndBadRangeAreErrors) {
   EXPECT_THROW(load_frontend_config(type), ConfigError);
   ConfigNode refiner = ConfigNode::parse("vo: {refiner: levenberg}\n", "test");
   EXPECT_THROW(load_frontend_config(refiner), ConfigError);
+  ConfigNode subpixel = ConfigNode::parse("stereo: {subpixel_refine: parabola}\n", "test");
+  EXPECT_THROW(load_frontend_config(subpixel), ConfigError);
 }
 
 TEST(FrontendConfig, RefinerChoiceReachesTheRefinementOptions) {
@@ -62,6 +68,8 @@ TEST(FrontendConfig, DefaultsFileMatchesCode) {
   EXPECT_DOUBLE_EQ(c.stereo.max_depth_m, d.stereo.max_depth_m);
   EXPECT_DOUBLE_EQ(c.stereo.pixel_sigma, d.stereo.pixel_sigma);
   EXPECT_EQ(c.stereo.max_hamming, d.stereo.max_hamming);
+  EXPECT_EQ(c.stereo.subpixel_cost, d.stereo.subpixel_cost);
+  EXPECT_EQ(c.stereo.subpixel_refine, d.stereo.subpixel_refine);
   EXPECT_DOUBLE_EQ(c.vo.search_radius_px, d.vo.search_radius_px);
   EXPECT_EQ(c.vo.refiner, d.vo.refiner);
   EXPECT_DOUBLE_EQ(c.vo.huber_delta, d.vo.huber_delta);
