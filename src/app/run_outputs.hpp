@@ -40,6 +40,8 @@ struct RunRecord {
   std::optional<PoseList> refined_poses;     ///< the refined trajectory (trajectory_refined.txt), if any
   std::vector<io::MapPoint> refined_map;     ///< the refined map (map_refined.pcd), with refined_poses
   std::map<std::string, double> refinement;  ///< the refinement's timings and counters (metrics.json)
+  /// the stereo pair's row alignment (metrics.json `rectification`; rectification_check_stage.hpp)
+  std::map<std::string, double> rectification;
   std::vector<bool> resampled;
   std::size_t vo_fallbacks = 0;
   std::size_t missing_frames = 0;

@@ -8,6 +8,7 @@
 #include <spdlog/spdlog.h>
 #include <yaml-cpp/yaml.h>
 
+#include "app/pipeline/rectification_check_stage.hpp"
 #include "app/pipeline/refinement_stage.hpp"
 #include "app/pipeline/stereo_pipeline.hpp"
 #include "app/pipeline/trajectory_stream_stage.hpp"
@@ -82,6 +83,7 @@ int run_stereo(const RunOptions& options) {
   apply_camera_defaults(root, calibration, config);  // keys the config leaves out follow from the rig
   StereoPipeline pipeline(*dataset, calibration, config, first, last);
   pipeline.add_stage(std::make_unique<TrajectoryStreamStage>(options.out_dir));
+  pipeline.add_stage(std::make_unique<RectificationCheckStage>());
   // SIGINT/SIGTERM: stop at the next frame boundary (or the final pass at its next EM round) and write what
   // we have
   const auto stop = [] { return interrupt_requested(); };

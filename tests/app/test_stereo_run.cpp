@@ -86,6 +86,10 @@ TEST_F(StereoRun, WritesEveryOutputAndBeatsBoundsFromTheRendererNoise) {
   EXPECT_GT(j["map"]["landmarks"].get<int>(), 50);
   EXPECT_GT(j["filter"]["ess_percent"].get<double>(), 0.0);
   EXPECT_TRUE(j["timing"].contains("fps"));
+  // the renderer's pairs are row-aligned: the check measures every 10th frame and finds no offset
+  ASSERT_TRUE(j.contains("rectification"));
+  EXPECT_GT(j["rectification"]["samples"].get<double>(), 50.0);
+  EXPECT_LT(j["rectification"]["corner_max_px"].get<double>(), 0.1);
 
   // The map's landmarks lie on the rendered surfaces: compare each landmark's depth in the first frame whose
   // depth map sees it with the true depth at its pixel.
