@@ -12,7 +12,8 @@ namespace glmbslam::frontend {
 RectificationCheck::RectificationCheck(const RectificationCheckOptions& options) : options_(options) {}
 
 void RectificationCheck::add_frame(std::size_t k, const StereoFrameFeatures& frame) {
-  if (k % static_cast<std::size_t>(std::max(1, options_.every_frames)) != 0) return;
+  const bool gathering = samples_.size() < static_cast<std::size_t>(options_.min_samples);
+  if (!gathering && k % static_cast<std::size_t>(std::max(1, options_.every_frames)) != 0) return;
   if (frame.left.pyramid.empty() || frame.right.pyramid.empty()) return;
   const cv::Mat& L = frame.left.pyramid[0];
   const cv::Mat& R = frame.right.pyramid[0];
@@ -27,7 +28,7 @@ void RectificationCheck::add_frame(std::size_t k, const StereoFrameFeatures& fra
   ++frames_;
   const int h = options_.half_window, m = options_.margin;
   const std::size_t stride = std::max<std::size_t>(1, level0.size() / static_cast<std::size_t>(options_.max_points));
-  const cv::TermCriteria criteria(cv::TermCriteria::COUNT + cv::TermCriteria::EPS, 50, 1e-4);
+  const cv::TermCriteria criteria(cv::TermCriteria::COUNT + cv::TermCriteria::EPS, 30, 1e-4);
   for (std::size_t s = 0; s < level0.size(); s += stride) {
     const StereoMeasurement& z = frame.measurements[level0[s]];
     const int ul = static_cast<int>(std::lround(z.z(0))), v = static_cast<int>(std::lround(z.z(1)));
@@ -70,12 +71,22 @@ RectificationSummary RectificationCheck::summary() const {
     A += j * j.transpose();
     b += j * s.dy;
   }
-  const Eigen::Vector4d c = A.ldlt().solve(b);
+  const Eigen::LDLT<Eigen::Matrix4d> ldlt(A);
+  const Eigen::Vector4d c = ldlt.solve(b);
   if (!c.allFinite()) return out;
   for (int i = 0; i < 4; ++i) out.field[static_cast<std::size_t>(i)] = c(i);
+  double rss = 0.0;  // residual variance → covariance of c: σ² (JᵀJ)⁻¹
+  for (const Sample& s : samples_) rss += std::pow(s.dy - (c(0) + c(1) * s.x + c(2) * s.y + c(3) * s.x * s.y), 2);
+  const double sigma2 = rss / static_cast<double>(samples_.size() - 4);
+  const Eigen::Matrix4d cov = sigma2 * ldlt.solve(Eigen::Matrix4d::Identity());
   for (const double x : {-1.0, 1.0}) {
     for (const double y : {-1.0, 1.0}) {
-      out.corner_max_px = std::max(out.corner_max_px, std::abs(c(0) + c(1) * x + c(2) * y + c(3) * x * y));
+      const Eigen::Vector4d j(1.0, x, y, x * y);
+      const double value = std::abs(j.dot(c));
+      if (value >= out.corner_max_px) {
+        out.corner_max_px = value;
+        out.corner_max_se_px = std::sqrt(std::max(0.0, j.dot(cov * j)));
+      }
     }
   }
   return out;

@@ -14,12 +14,13 @@ std::map<std::string, double> rectification_metrics(const frontend::Rectificatio
   m["field_y_px"] = s.field[2];
   m["field_xy_px"] = s.field[3];
   m["corner_max_px"] = s.corner_max_px;
-  if (s.corner_max_px >= kRectificationWarningPx) {
+  m["corner_max_se_px"] = s.corner_max_se_px;
+  if (s.corner_max_px - 2.0 * s.corner_max_se_px >= kRectificationWarningPx) {
     spdlog::warn(
         "the stereo pair is not row-aligned: the right image is {:+.2f} px off the left's rows in the median and "
-        "up to {:.2f} px at the image corners ({} matches re-aligned); stereo matching searches rows, so depths "
+        "up to {:.2f} ± {:.2f} px at the image corners ({} matches re-aligned); stereo matching searches rows, so depths "
         "lose accuracy: check the calibration and rectification (metrics.json 'rectification')",
-        s.median_px, s.corner_max_px, s.samples);
+        s.median_px, s.corner_max_px, s.corner_max_se_px, s.samples);
   }
   return m;
 }
