@@ -27,9 +27,11 @@ void RectificationCheck::add_frame(std::size_t k, const StereoFrameFeatures& fra
   if (level0.empty()) return;
   ++frames_;
   const int h = options_.half_window, m = options_.margin;
-  const std::size_t stride = std::max<std::size_t>(1, level0.size() / static_cast<std::size_t>(options_.max_points));
+  const std::size_t stride =
+      std::max<std::size_t>(1, level0.size() / static_cast<std::size_t>(options_.max_points));
   const cv::TermCriteria criteria(cv::TermCriteria::COUNT + cv::TermCriteria::EPS, 30, 1e-4);
-  for (std::size_t s = 0; s < level0.size(); s += stride) {
+  int tried = 0;
+  for (std::size_t s = 0; s < level0.size() && tried < options_.max_points; s += stride, ++tried) {
     const StereoMeasurement& z = frame.measurements[level0[s]];
     const int ul = static_cast<int>(std::lround(z.z(0))), v = static_cast<int>(std::lround(z.z(1)));
     const int ur = static_cast<int>(std::lround(z.z(2)));
@@ -76,7 +78,8 @@ RectificationSummary RectificationCheck::summary() const {
   if (!c.allFinite()) return out;
   for (int i = 0; i < 4; ++i) out.field[static_cast<std::size_t>(i)] = c(i);
   double rss = 0.0;  // residual variance → covariance of c: σ² (JᵀJ)⁻¹
-  for (const Sample& s : samples_) rss += std::pow(s.dy - (c(0) + c(1) * s.x + c(2) * s.y + c(3) * s.x * s.y), 2);
+  for (const Sample& s : samples_)
+    rss += std::pow(s.dy - (c(0) + c(1) * s.x + c(2) * s.y + c(3) * s.x * s.y), 2);
   const double sigma2 = rss / static_cast<double>(samples_.size() - 4);
   const Eigen::Matrix4d cov = sigma2 * ldlt.solve(Eigen::Matrix4d::Identity());
   for (const double x : {-1.0, 1.0}) {

@@ -102,10 +102,10 @@ void sad_search(const cv::Mat& L, const cv::Mat& R, int xl, int xr0, int y, int 
 /// interpolated central difference (β eliminated in closed form: the window's zero-mean residual and
 /// gradient). A three-point fit to integer-shift costs is pulled towards whole pixels (pixel locking);
 /// interpolating the image instead of the cost is not (rendered frames: bias +0.002 px, MAD 0.08 px against
-/// the centre fit's +0.03 px and 0.36 px; tests/frontend/test_stereo_disparity_bias.cpp). The offset keeps the
-/// left/right exposure difference out: OpenCV's calcOpticalFlowPyrLK, which has none, shortened the VO's path
-/// on KITTI raw 0001 by 0.8 %. Returns false if the window leaves the image, the texture has no horizontal
-/// gradient or the refinement moves more than one pixel from the start.
+/// the centre fit's +0.03 px and 0.36 px; tests/frontend/test_stereo_disparity_bias.cpp). The offset keeps
+/// the left/right exposure difference out: OpenCV's calcOpticalFlowPyrLK, which has none, shortened the VO's
+/// path on KITTI raw 0001 by 0.8 %. Returns false if the window leaves the image, the texture has no
+/// horizontal gradient or the refinement moves more than one pixel from the start.
 bool refine_column_lk(const cv::Mat& L, const cv::Mat& R, int xl, int yl, int w, double* xr) {
   const double start = *xr;
   double x = start;

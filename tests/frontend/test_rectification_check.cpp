@@ -9,11 +9,11 @@
 
 #include "frontend/rectification_check.hpp"
 #include "io/stereo_dataset.hpp"
-#include "support/test_data.hpp"
 #include "sim/default_trajectory.hpp"
 #include "sim/kitti_sequence_writer.hpp"
 #include "sim/stereo_procedural_world.hpp"
 #include "sim/stereo_renderer.hpp"
+#include "support/test_data.hpp"
 
 namespace glmbslam::frontend {
 namespace {
@@ -36,7 +36,8 @@ RectificationSummary check_rendered(const cv::Mat& right_warp) {
     renderer.render(trajectory[static_cast<std::size_t>(11 * k)], 0.0, static_cast<std::uint64_t>(k), frame,
                     false);
     cv::Mat right = frame.right;
-    if (!right_warp.empty()) cv::warpAffine(frame.right, right, right_warp, frame.right.size(), cv::INTER_LINEAR);
+    if (!right_warp.empty())
+      cv::warpAffine(frame.right, right, right_warp, frame.right.size(), cv::INTER_LINEAR);
     check.add_frame(static_cast<std::size_t>(k), frontend.process(frame.left, right));
   }
   const RectificationSummary s = check.summary();
@@ -63,12 +64,13 @@ TEST(RectificationCheck, MeasuresAVerticalShiftOfTheRightImage) {
 }
 
 TEST(RectificationCheck, MeasuresARollAsTheFieldsXTerm) {
-  // rotated by 0.05° about the image centre: v moves by about θ·(u − c_u), ±0.54 px at the left and right edges
+  // rotated by 0.05° about the image centre: v moves by about θ·(u − c_u), ±0.54 px at the left and right
+  // edges
   const StereoCalibration calib = sim::named_kitti_calibration("kitti04-12");
   const double theta_deg = 0.05;
-  const cv::Mat roll = cv::getRotationMatrix2D(cv::Point2f(static_cast<float>(calib.width / 2.0),
-                                                           static_cast<float>(calib.height / 2.0)),
-                                               -theta_deg, 1.0);
+  const cv::Mat roll = cv::getRotationMatrix2D(
+      cv::Point2f(static_cast<float>(calib.width / 2.0), static_cast<float>(calib.height / 2.0)), -theta_deg,
+      1.0);
   const RectificationSummary s = check_rendered(roll);
   ASSERT_TRUE(s.valid());
   const double edge = theta_deg * M_PI / 180.0 * calib.width / 2.0;  // v change at x = ±1

@@ -80,8 +80,8 @@ ErrorStats disparity_errors(const std::string& subpixel_cost, bool photometric_n
 }
 
 // stereo.subpixel_refine lk from the centre cost's fit: unbiased and as sharp as the zero-mean cost (measured
-// +0.002 / +0.003 px, MAD 0.081 / 0.092 px without / with photometric noise, against the fit's +0.027 / +0.030 px
-// and 0.36 / 0.40 px).
+// +0.002 / +0.003 px, MAD 0.081 / 0.092 px without / with photometric noise, against the fit's +0.027 /
+// +0.030 px and 0.36 / 0.40 px).
 TEST(StereoDisparityBias, LucasKanadeRefinementIsUnbiasedAndSharperThanTheFit) {
   for (const bool noise : {false, true}) {
     const ErrorStats fit = disparity_errors("centre", noise);

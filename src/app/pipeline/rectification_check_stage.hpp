@@ -15,7 +15,8 @@ inline constexpr double kRectificationWarningPx = 0.5;
 
 /// The check's summary as metrics.json's `rectification` block (samples, frames, median_vertical_offset_px
 /// and, with enough samples, field_centre_px, field_x_px, field_y_px, field_xy_px, corner_max_px,
-/// corner_max_se_px); logs the warning when corner_max_px − 2 corner_max_se_px reaches kRectificationWarningPx.
+/// corner_max_se_px); logs the warning when corner_max_px − 2 corner_max_se_px reaches
+/// kRectificationWarningPx.
 std::map<std::string, double> rectification_metrics(const frontend::RectificationSummary& summary);
 
 class RectificationCheckStage : public PipelineStage {
