@@ -12,7 +12,8 @@ namespace glmbslam::frontend {
 RectificationCheck::RectificationCheck(const RectificationCheckOptions& options) : options_(options) {}
 
 void RectificationCheck::add_frame(std::size_t k, const StereoFrameFeatures& frame) {
-  const bool gathering = samples_.size() < static_cast<std::size_t>(options_.min_samples);
+  const bool gathering = samples_.size() < static_cast<std::size_t>(options_.min_samples) &&
+                         frames_ < static_cast<std::size_t>(options_.max_gathering_frames);
   if (!gathering && k % static_cast<std::size_t>(std::max(1, options_.every_frames)) != 0) return;
   if (frame.left.pyramid.empty() || frame.right.pyramid.empty()) return;
   const cv::Mat& L = frame.left.pyramid[0];

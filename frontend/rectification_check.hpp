@@ -25,8 +25,9 @@
 namespace glmbslam::frontend {
 
 struct RectificationCheckOptions {
-  int min_samples = 200;  ///< samples gathered on every frame before sampling every `every_frames`-th
-  int every_frames = 25;  ///< frames between two sampled frames once min_samples are gathered
+  int min_samples = 200;          ///< samples gathered on every frame before sampling every `every_frames`-th
+  int max_gathering_frames = 20;  ///< ... on at most this many frames (textureless images give few samples)
+  int every_frames = 25;          ///< frames between two sampled frames once min_samples are gathered
   int max_points = 25;  ///< matches sampled per sampled frame (≈ 0.25 ms each: 0.25 ms per frame on average)
   int half_window = 10;  ///< patch half size h (pixels)
   int margin = 3;        ///< vertical and horizontal search margin (pixels); larger offsets are not measured
