@@ -9,6 +9,15 @@
 
 namespace glmbslam::frontend {
 
+namespace {
+
+/// The field's basis at (x, y): v_off = cᵀ basis(x, y).
+Eigen::Vector4d basis(double x, double y) {
+  return {1.0, x, y, x * y};
+}
+
+}  // namespace
+
 RectificationCheck::RectificationCheck(const RectificationCheckOptions& options) : options_(options) {}
 
 void RectificationCheck::add_frame(std::size_t k, const StereoFrameFeatures& frame) {
@@ -19,8 +28,7 @@ void RectificationCheck::add_frame(std::size_t k, const StereoFrameFeatures& fra
   const cv::Mat& L = frame.left.pyramid[0];
   const cv::Mat& R = frame.right.pyramid[0];
   if (L.empty() || R.empty() || L.size() != R.size()) return;
-  width_ = L.cols;
-  height_ = L.rows;
+  const double width = L.cols, height = L.rows;
   std::vector<std::size_t> level0;
   for (std::size_t i = 0; i < frame.measurements.size(); ++i) {
     if (frame.measurements[i].octave == 0) level0.push_back(i);
@@ -51,7 +59,7 @@ void RectificationCheck::add_frame(std::size_t k, const StereoFrameFeatures& fra
     }
     const double dy = warp.at<float>(1, 2) - m;
     if (!std::isfinite(dy) || std::abs(dy) >= m - 0.5) continue;  // at the margin: not measured
-    samples_.push_back({(2.0 * ul - width_) / width_, (2.0 * v - height_) / height_, dy});
+    samples_.push_back({(2.0 * ul - width) / width, (2.0 * v - height) / height, dy});
   }
 }
 
@@ -70,7 +78,7 @@ RectificationSummary RectificationCheck::summary() const {
   Eigen::Matrix4d A = Eigen::Matrix4d::Zero();
   Eigen::Vector4d b = Eigen::Vector4d::Zero();
   for (const Sample& s : samples_) {
-    const Eigen::Vector4d j(1.0, s.x, s.y, s.x * s.y);
+    const Eigen::Vector4d j = basis(s.x, s.y);
     A += j * j.transpose();
     b += j * s.dy;
   }
@@ -79,13 +87,12 @@ RectificationSummary RectificationCheck::summary() const {
   if (!c.allFinite()) return out;
   for (int i = 0; i < 4; ++i) out.field[static_cast<std::size_t>(i)] = c(i);
   double rss = 0.0;  // residual variance → covariance of c: σ² (JᵀJ)⁻¹
-  for (const Sample& s : samples_)
-    rss += std::pow(s.dy - (c(0) + c(1) * s.x + c(2) * s.y + c(3) * s.x * s.y), 2);
+  for (const Sample& s : samples_) rss += std::pow(s.dy - basis(s.x, s.y).dot(c), 2);
   const double sigma2 = rss / static_cast<double>(samples_.size() - 4);
   const Eigen::Matrix4d cov = sigma2 * ldlt.solve(Eigen::Matrix4d::Identity());
   for (const double x : {-1.0, 1.0}) {
     for (const double y : {-1.0, 1.0}) {
-      const Eigen::Vector4d j(1.0, x, y, x * y);
+      const Eigen::Vector4d j = basis(x, y);
       const double value = std::abs(j.dot(c));
       if (value >= out.corner_max_px) {
         out.corner_max_px = value;

@@ -59,7 +59,6 @@ class RectificationCheck {
   RectificationCheckOptions options_;
   std::vector<Sample> samples_;
   std::size_t frames_ = 0;
-  double width_ = 0.0, height_ = 0.0;
 };
 
 }  // namespace glmbslam::frontend

@@ -86,7 +86,7 @@ TEST_F(StereoRun, WritesEveryOutputAndBeatsBoundsFromTheRendererNoise) {
   EXPECT_GT(j["map"]["landmarks"].get<int>(), 50);
   EXPECT_GT(j["filter"]["ess_percent"].get<double>(), 0.0);
   EXPECT_TRUE(j["timing"].contains("fps"));
-  // the renderer's pairs are row-aligned: the check measures every 10th frame and finds no offset
+  // the renderer's pairs are row-aligned: the run's alignment check finds no offset
   ASSERT_TRUE(j.contains("rectification"));
   EXPECT_GT(j["rectification"]["samples"].get<double>(), 50.0);
   EXPECT_LT(j["rectification"]["corner_max_px"].get<double>(), 0.1);
