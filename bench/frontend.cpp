@@ -150,15 +150,17 @@ void BM_StereoFrontend(benchmark::State& state) {
 }
 BENCHMARK(BM_StereoFrontend)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
 
+// Arg: frontend.stereo.gain_compensation off (0) / on (1).
 void BM_StereoMatching(benchmark::State& state) {
-  const frontend::FrontendConfig config;
+  frontend::FrontendConfig config;
+  config.stereo.gain_compensation = state.range(0) != 0;
   const frontend::StereoFrontend fe(calibration(), config);
   const frontend::StereoFrameFeatures f = fe.process(frames()[50].left, frames()[50].right);
   const frontend::StereoMatcher matcher(fe.camera(), config.stereo, fe.extractor().scales());
   std::vector<int> l2m;
   for (auto _ : state) benchmark::DoNotOptimize(matcher.match(f.left, f.right, &l2m));
 }
-BENCHMARK(BM_StereoMatching)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_StereoMatching)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 
 void BM_VoTrack(benchmark::State& state) {
   const frontend::FrontendConfig config;

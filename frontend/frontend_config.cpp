@@ -32,6 +32,7 @@ FrontendConfig load_frontend_config(ConfigNode& node) {
     n.read_in_range("outlier_sad_factor", s.outlier_sad_factor, 1.0, 100.0);
     n.read_choice("subpixel_cost", s.subpixel_cost, {"centre", "zero_mean"});
     n.read_choice("subpixel_refine", s.subpixel_refine, {"fit", "lk"});
+    n.read("gain_compensation", s.gain_compensation);
     n.read_in_range("pixel_sigma", s.pixel_sigma, 1e-3, 100.0);
     n.finish();
   }

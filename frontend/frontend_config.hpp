@@ -41,6 +41,9 @@ struct StereoMatchConfig {
   /// On renders `lk` follows a point's disparity from frame to frame more faithfully; the filter is tuned for
   /// "fit" (docs/investigations.md).
   std::string subpixel_refine = "fit";
+  /// Level the right camera's contrast to the left's before the sub-pixel search (σ_L / σ_R per frame from
+  /// the descriptor matches' patches; stereo_gain.hpp): the costs remove a brightness offset, not a gain.
+  bool gain_compensation = true;
   double pixel_sigma = 1.0;  ///< σ (pixels) of u_L, v, u_R at level 0; × scale_factor^octave above
 };
 

@@ -1,5 +1,7 @@
 #include "frontend/stereo_matcher.hpp"
 
+#include "frontend/stereo_gain.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -251,6 +253,12 @@ StereoMeasurementList StereoMatcher::match(const OrbFeatures& left, const OrbFea
     int distance;
   };
   std::vector<Scored> scored;
+  struct DescriptorMatch {
+    int left, right, distance;
+    double u_right;  ///< the matched right keypoint's column (level 0)
+  };
+  std::vector<DescriptorMatch> descriptor_matches;
+  descriptor_matches.reserve(static_cast<std::size_t>(nl));
 
   for (int i = 0; i < nl; ++i) {
     const auto& kl = left.keypoints[static_cast<std::size_t>(i)];
@@ -290,16 +298,35 @@ StereoMeasurementList StereoMatcher::match(const OrbFeatures& left, const OrbFea
       if (second != std::numeric_limits<int>::max() && best >= config_.ratio * second) continue;
     }
     ++st.candidates;
+    descriptor_matches.push_back({i, best_j, best, best_u});
+  }
 
+  // Each match's patches on the left keypoint's level, whole pixels; the right camera's contrast from them.
+  auto patch_pair = [&](const DescriptorMatch& dm) {
+    const auto& kl = left.keypoints[static_cast<std::size_t>(dm.left)];
+    PatchPair p;
+    p.level = std::min(kl.octave, levels - 1);
+    const double scale = scales_[static_cast<std::size_t>(p.level)];
+    p.xl = cvRound(kl.pt.x / scale);
+    p.yl = cvRound(kl.pt.y / scale);
+    p.xr = cvRound(dm.u_right / scale);
+    return p;
+  };
+  std::vector<PatchPair> pairs;
+  pairs.reserve(descriptor_matches.size());
+  for (const DescriptorMatch& dm : descriptor_matches) pairs.push_back(patch_pair(dm));
+  st.right_gain = estimate_right_gain(left.pyramid, right.pyramid, pairs, w);
+  const double gain = config_.gain_compensation && std::isfinite(st.right_gain) ? st.right_gain : 1.0;
+  ContrastMatchedLevels matched_levels(left.pyramid, right.pyramid, gain);
+
+  for (const DescriptorMatch& dm : descriptor_matches) {
     // Sub-pixel u_R: SAD search on the left keypoint's level around the matched right column, then the
     // sub-pixel fit of stereo.subpixel_cost.
-    const int level = std::min(kl.octave, levels - 1);
-    const double scale = scales_[static_cast<std::size_t>(level)];
-    const cv::Mat& IL = left.pyramid[static_cast<std::size_t>(level)];
-    const cv::Mat& IR = right.pyramid[static_cast<std::size_t>(level)];
-    const int xl = cvRound(kl.pt.x / scale);
-    const int yl = cvRound(kl.pt.y / scale);
-    const int xr0 = cvRound(best_u / scale);
+    const PatchPair p = patch_pair(dm);
+    const double scale = scales_[static_cast<std::size_t>(p.level)];
+    const cv::Mat& IL = matched_levels.left(p.level);
+    const cv::Mat& IR = matched_levels.right(p.level);
+    const int xl = p.xl, yl = p.yl, xr0 = p.xr;
     if (yl - w < 0 || yl + w >= IL.rows || yl + w >= IR.rows || xl - w < 0 || xl + w >= IL.cols ||
         xr0 - radius - w < 0 || xr0 + radius + w >= IR.cols) {
       ++st.rejected_subpixel;
@@ -329,12 +356,12 @@ StereoMeasurementList StereoMatcher::match(const OrbFeatures& left, const OrbFea
       continue;
     }
     const double u_r = scale * xr;
-    const double disparity = u_l - u_r;
+    const double disparity = left.keypoints[static_cast<std::size_t>(dm.left)].pt.x - u_r;
     if (disparity < min_disparity || disparity > max_disparity) {
       ++st.rejected_subpixel;
       continue;
     }
-    accepted.push_back({i, best_j, best, best_sad, u_r});
+    accepted.push_back({dm.left, dm.right, dm.distance, best_sad, u_r});
   }
 
   // Each right keypoint once: lowest Hamming distance (then lowest SAD) wins.

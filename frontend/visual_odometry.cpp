@@ -247,15 +247,17 @@ VoEstimate StereoVisualOdometry::track(const StereoFrameFeatures& frame, double 
     e.ms = sw.elapsed_ms();
     return e;
   };
+  const int min_measurements = std::max(config_.min_inliers, 8);
   const bool repeated = k > 0 && repeated_image(frame);
   if (k == 0) repeated_image(frame);  // remembers the pair
-  if (repeated) {
-    // the pose the images show is the previous one: zero motion; the clock of the prediction is not advanced
+  // A textured pair repeated shows the previous pose: zero motion, the clock of the prediction not advanced.
+  // A pair with too few measurements to track (a dark or covered lens) repeated says nothing about the
+  // motion: it goes on below to the constant-velocity fallback like the first such pair.
+  if (repeated && static_cast<int>(frame.measurements.size()) >= min_measurements) {
     spdlog::info("vo: frame {}: stereo pair identical to the previous one → zero motion", k);
     return finish(repeat());
   }
   const Pose3 velocity = predicted_motion(timestamp);
-  const int min_measurements = std::max(config_.min_inliers, 8);
   if (!has_reference_) {
     if (static_cast<int>(frame.measurements.size()) >= min_measurements) set_reference(frame);
     VoEstimate e;

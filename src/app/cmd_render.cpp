@@ -39,6 +39,9 @@ void register_render_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--exposure", opt->photometric.exposure_sigma, "per-frame log-exposure sigma")
       ->capture_default_str();
+  cmd->add_option("--right-gain", opt->photometric.right_gain,
+                  "the right camera's gain relative to the left's (independent exposure)")
+      ->capture_default_str();
   cmd->add_option("--movers", opt->movers, "number of moving boxes driving along the road")
       ->capture_default_str();
   cmd->add_option("--png-compression", opt->png_compression, "zlib level 0 (fastest, ~2x larger files) to 9")

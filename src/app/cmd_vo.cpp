@@ -4,7 +4,8 @@
 // Outputs in --out: vo_trajectory.txt (KITTI format, one pose per frame of the range), vo_frames.csv
 // (per-frame status, matches, inliers, timings, diagonal of Q_k), metrics.json (eval blocks of
 // eval/report.hpp when ground truth exists, end-point drift, timing of each stage, status counts, the stereo
-// pair's row alignment `rectification`: app/pipeline/rectification_check_stage.hpp) and
+// pair's row alignment `rectification`: app/pipeline/rectification_check_stage.hpp; the cameras' contrast
+// `stereo_photometry`: app/pipeline/stereo_photometry_stage.hpp) and
 // vo_features.png (features of both images and the stereo matches on a sample frame) and report.html (the
 // interactive report, app/run_report.hpp). A frame whose images
 // cannot be loaded (missing, corrupt, wrong size) is reported and replaced by the VO's constant-velocity
@@ -28,6 +29,7 @@
 
 #include "app/commands.hpp"
 #include "app/pipeline/rectification_check_stage.hpp"
+#include "app/pipeline/stereo_photometry_stage.hpp"
 #include "app/pipeline/trajectory_stream_stage.hpp"
 #include "app/run_report.hpp"
 #include "app/stereo_config.hpp"
@@ -164,6 +166,7 @@ void run_vo(const VoArgs& a) {
   config = with_camera_defaults(a.config, *dataset, first, config);
   const frontend::StereoFrontend fe(calib, config);
   frontend::RectificationCheck rectification;
+  std::vector<double> right_gains;
   frontend::StereoVisualOdometry vo(fe.camera(), config.vo, fe.extractor().scales());
   const std::size_t sample =
       a.sample_frame >= 0 ? std::min<std::size_t>(static_cast<std::size_t>(a.sample_frame), requested - 1)
@@ -205,6 +208,7 @@ void run_vo(const VoArgs& a) {
       est = vo.track(f, frame->timestamp);
       vo_ms.push_back(est.ms);
       rectification.add_frame(i - first, f);
+      right_gains.push_back(f.stats.right_gain);
       if (!png_written && i - first >= sample) {  // the sample frame, or the next one that loads
         write_png(out / "vo_features.png", draw_features(frame->left, frame->right, f));
         png_written = true;
@@ -290,6 +294,7 @@ void run_vo(const VoArgs& a) {
   j["timing"] = timing;
   j["vo_status"] = status_counts;
   j["rectification"] = rectification_metrics(rectification.summary());
+  j["stereo_photometry"] = stereo_photometry_metrics(right_gains, config.stereo.gain_compensation);
   eval::write_json_file((out / "metrics.json").string(), j);
   VoReportInput report{dataset->name(), first, &poses, &gt, gt ? &*evaluation : nullptr, {}, {}, {}, ""};
   for (std::size_t k = 0; k < estimates.size(); ++k) {

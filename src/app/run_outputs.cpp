@@ -170,6 +170,7 @@ void write_run_outputs(const std::string& out_dir, const RunRecord& r, bool plot
     j["refinement"] = r.refinement;
   }
   if (!r.rectification.empty()) j["rectification"] = r.rectification;
+  if (!r.stereo_photometry.empty()) j["stereo_photometry"] = r.stereo_photometry;
   double ess = 0.0, res = 0.0;
   for (double e : r.ess_fraction) ess += e;
   for (bool b : r.resampled) res += b ? 1.0 : 0.0;

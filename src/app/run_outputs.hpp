@@ -42,6 +42,9 @@ struct RunRecord {
   std::map<std::string, double> refinement;  ///< the refinement's timings and counters (metrics.json)
   /// the stereo pair's row alignment (metrics.json `rectification`; rectification_check_stage.hpp)
   std::map<std::string, double> rectification;
+  /// the right camera's contrast against the left's (metrics.json `stereo_photometry`;
+  /// stereo_photometry_stage.hpp)
+  std::map<std::string, double> stereo_photometry;
   std::vector<bool> resampled;
   std::size_t vo_fallbacks = 0;
   std::size_t missing_frames = 0;

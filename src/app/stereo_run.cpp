@@ -10,6 +10,7 @@
 
 #include "app/pipeline/rectification_check_stage.hpp"
 #include "app/pipeline/refinement_stage.hpp"
+#include "app/pipeline/stereo_photometry_stage.hpp"
 #include "app/pipeline/stereo_pipeline.hpp"
 #include "app/pipeline/trajectory_stream_stage.hpp"
 #include "app/run_options.hpp"
@@ -84,6 +85,7 @@ int run_stereo(const RunOptions& options) {
   StereoPipeline pipeline(*dataset, calibration, config, first, last);
   pipeline.add_stage(std::make_unique<TrajectoryStreamStage>(options.out_dir));
   pipeline.add_stage(std::make_unique<RectificationCheckStage>());
+  pipeline.add_stage(std::make_unique<StereoPhotometryStage>(config.frontend.stereo.gain_compensation));
   // SIGINT/SIGTERM: stop at the next frame boundary (or the final pass at its next EM round) and write what
   // we have
   const auto stop = [] { return interrupt_requested(); };

@@ -175,8 +175,8 @@ SequenceRenderSummary render_kitti_sequence(const SequenceRenderOptions& options
   const std::vector<int> png = png_parameters(options.png_compression);
   const PhotometricOptions& ph = options.photometric;
   if (!(ph.noise_sigma >= 0.0) || !(ph.vignetting >= 0.0 && ph.vignetting < 1.0) ||
-      !(ph.exposure_sigma >= 0.0)) {
-    throw ConfigError("render: noise and exposure must be >= 0, vignetting in [0, 1)");
+      !(ph.exposure_sigma >= 0.0) || !(ph.right_gain > 0.0)) {
+    throw ConfigError("render: noise and exposure must be >= 0, vignetting in [0, 1), the right gain > 0");
   }
 
   // Inputs first: nothing is written before they are all valid.

@@ -115,7 +115,8 @@ void StereoRenderer::render_camera(const Pose3& T_world_cam, const SurfaceList& 
 
   // Per-frame, per-camera exposure and the noise streams.
   RandomStream rng(options_.seed, frame_id * 2 + static_cast<std::uint64_t>(camera));
-  const double gain = ph.exposure_sigma > 0.0 ? std::exp(ph.exposure_sigma * rng.normal()) : 1.0;
+  const double gain = (ph.exposure_sigma > 0.0 ? std::exp(ph.exposure_sigma * rng.normal()) : 1.0) *
+                      (camera == 1 ? ph.right_gain : 1.0);
   // The first draw seeds lanes 2–3, the second lanes 0–1 (the order GCC evaluated the two draws in when they
   // were written as constructor arguments; kept so the images stay the same).
   const std::uint64_t seed_b = rng.engine()();

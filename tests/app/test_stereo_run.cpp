@@ -90,6 +90,14 @@ TEST_F(StereoRun, WritesEveryOutputAndBeatsBoundsFromTheRendererNoise) {
   ASSERT_TRUE(j.contains("rectification"));
   EXPECT_GT(j["rectification"]["samples"].get<double>(), 50.0);
   EXPECT_LT(j["rectification"]["corner_max_px"].get<double>(), 0.1);
+  // each rendered camera draws its own exposure (log σ 0.04): the contrast ratio is estimated on every frame
+  // and scatters about 1
+  ASSERT_TRUE(j.contains("stereo_photometry"));
+  EXPECT_EQ(j["stereo_photometry"]["frames"].get<double>(), static_cast<double>(kFrames));
+  EXPECT_EQ(j["stereo_photometry"]["compensated"].get<double>(), 1.0);
+  EXPECT_NEAR(j["stereo_photometry"]["right_gain_median"].get<double>(), 1.0, 0.05);
+  EXPECT_LT(j["stereo_photometry"]["right_gain_min"].get<double>(), 1.0);
+  EXPECT_GT(j["stereo_photometry"]["right_gain_max"].get<double>(), 1.0);
 
   // The map's landmarks lie on the rendered surfaces: compare each landmark's depth in the first frame whose
   // depth map sees it with the true depth at its pixel.

@@ -13,7 +13,7 @@ namespace {
 TEST(FrontendConfig, ReadsValuesAndKeepsDefaults) {
   ConfigNode node = ConfigNode::parse(
       "orb: {features: 1000, levels: 4}\nvo: {min_inliers: 30, consensus_first: true}\n"
-      "stereo: {subpixel_refine: lk}\n",
+      "stereo: {subpixel_refine: lk, gain_compensation: false}\n",
       "test");
   const FrontendConfig c = load_frontend_config(node);
   EXPECT_EQ(c.orb.features, 1000);
@@ -22,6 +22,7 @@ TEST(FrontendConfig, ReadsValuesAndKeepsDefaults) {
   EXPECT_EQ(c.vo.min_inliers, 30);
   EXPECT_TRUE(c.vo.consensus_first);
   EXPECT_EQ(c.stereo.subpixel_refine, "lk");
+  EXPECT_FALSE(c.stereo.gain_compensation);
   EXPECT_EQ(c.stereo.subpixel_cost, StereoMatchConfig{}.subpixel_cost);
   EXPECT_EQ(c.stereo.max_hamming, StereoMatchConfig{}.max_hamming);
 }
@@ -70,6 +71,7 @@ TEST(FrontendConfig, DefaultsFileMatchesCode) {
   EXPECT_EQ(c.stereo.max_hamming, d.stereo.max_hamming);
   EXPECT_EQ(c.stereo.subpixel_cost, d.stereo.subpixel_cost);
   EXPECT_EQ(c.stereo.subpixel_refine, d.stereo.subpixel_refine);
+  EXPECT_EQ(c.stereo.gain_compensation, d.stereo.gain_compensation);
   EXPECT_DOUBLE_EQ(c.vo.search_radius_px, d.vo.search_radius_px);
   EXPECT_EQ(c.vo.refiner, d.vo.refiner);
   EXPECT_DOUBLE_EQ(c.vo.huber_delta, d.vo.huber_delta);

@@ -187,8 +187,9 @@ TEST(StereoVisualOdometry, RecoversKnownMotionWithOutliers) {
 }
 
 // A byte-identical repeat of the previous pair gets zero motion with a small covariance (the images show the
-// previous pose); blank and missing frames fall back to constant velocity with an inflated covariance;
-// tracking resumes afterwards against the last good frame, and the composed poses stay right.
+// previous pose); blank frames (repeated or not) and missing frames fall back to constant velocity with an
+// inflated covariance; tracking resumes afterwards against the last good frame, and the composed poses stay
+// right.
 TEST(StereoVisualOdometry, FallsBackOnHardFramesAndRecovers) {
   RandomStream rng(14);
   const test::SyntheticWorld world = test::make_world(3000, rng);
@@ -222,6 +223,14 @@ TEST(StereoVisualOdometry, FallsBackOnHardFramesAndRecovers) {
   const VoEstimate b = run(blank);
   EXPECT_EQ(b.status, VoStatus::kNoFeatures);
 
+  // The blank frame again, byte for byte (a covered lens): no information, so constant velocity as for the
+  // first one, not the zero motion of a repeated textured pair.
+  T_wc = T_wc * step;
+  const VoEstimate b2 = run(blank);
+  EXPECT_EQ(b2.status, VoStatus::kNoFeatures);
+  EXPECT_NEAR(b2.relative_pose.translation().norm(), step.translation().norm(),
+              0.01);  // the estimated velocity
+
   // A frame whose images could not be loaded.
   T_wc = T_wc * step;
   const VoEstimate m = vo.skip_frame();
@@ -234,7 +243,7 @@ TEST(StereoVisualOdometry, FallsBackOnHardFramesAndRecovers) {
   EXPECT_EQ(r.status, VoStatus::kTracked);
   const Pose3 err = T_wc.inverse() * T_est;
   EXPECT_LT(err.translation().norm(), 0.05);
-  EXPECT_EQ(vo.frames(), 6u);
+  EXPECT_EQ(vo.frames(), 7u);
 }
 
 // A still camera is a measurement: the same scene with fresh pixel noise is tracked (never a repeat) and the

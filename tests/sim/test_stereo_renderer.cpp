@@ -314,6 +314,30 @@ TEST(StereoRenderer, SameSeedSameImagesDifferentSeedDifferentImages) {
   EXPECT_GT(cv::norm(a.left, c.left, cv::NORM_L1), 1e5);
 }
 
+// render --right-gain: the right image alone scales (up to grey-level rounding and saturation), the left one
+// and the noise streams stay as they were.
+TEST(StereoRenderer, RightGainScalesTheRightImageOnly) {
+  const PoseList trajectory = default_trajectory();
+  const ProceduralWorld world(trajectory, {});
+  const StereoCalibration calib = named_kitti_calibration("kitti00-02");
+  auto render = [&](double right_gain) {
+    RenderOptions ropt;
+    ropt.photometric = PhotometricOptions{0.0, 0.2, 0.0, right_gain};
+    StereoRenderer renderer(world, calib, ropt);
+    RenderedFrame f;
+    renderer.render(trajectory[200], 20.0, 200, f);
+    return f;
+  };
+  const RenderedFrame one = render(1.0), dim = render(0.7);
+  EXPECT_EQ(cv::norm(one.left, dim.left, cv::NORM_L1), 0.0);
+  cv::Mat expected;
+  one.right.convertTo(expected, CV_32F, 0.7);
+  cv::Mat got;
+  dim.right.convertTo(got, CV_32F);
+  cv::Mat unsaturated = one.right < 255;
+  EXPECT_LE(cv::norm(expected, got, cv::NORM_INF, unsaturated), 1.0);  // each rounded to a grey level
+}
+
 TEST(StereoRenderer, ImagesAreTexturedAndNotSaturated) {
   const PoseList trajectory = default_trajectory();
   const ProceduralWorld world(trajectory, {});
