@@ -1,13 +1,13 @@
 #include "frontend/stereo_matcher.hpp"
 
-#include "frontend/stereo_gain.hpp"
-
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <vector>
 
 #include <opencv2/core/hal/intrin.hpp>
+
+#include "frontend/stereo_gain.hpp"
 
 namespace glmbslam::frontend {
 
@@ -302,7 +302,9 @@ StereoMeasurementList StereoMatcher::match(const OrbFeatures& left, const OrbFea
   }
 
   // Each match's patches on the left keypoint's level, whole pixels; the right camera's contrast from them.
-  auto patch_pair = [&](const DescriptorMatch& dm) {
+  std::vector<PatchPair> pairs;
+  pairs.reserve(descriptor_matches.size());
+  for (const DescriptorMatch& dm : descriptor_matches) {
     const auto& kl = left.keypoints[static_cast<std::size_t>(dm.left)];
     PatchPair p;
     p.level = std::min(kl.octave, levels - 1);
@@ -310,19 +312,17 @@ StereoMeasurementList StereoMatcher::match(const OrbFeatures& left, const OrbFea
     p.xl = cvRound(kl.pt.x / scale);
     p.yl = cvRound(kl.pt.y / scale);
     p.xr = cvRound(dm.u_right / scale);
-    return p;
-  };
-  std::vector<PatchPair> pairs;
-  pairs.reserve(descriptor_matches.size());
-  for (const DescriptorMatch& dm : descriptor_matches) pairs.push_back(patch_pair(dm));
+    pairs.push_back(p);
+  }
   st.right_gain = estimate_right_gain(left.pyramid, right.pyramid, pairs, w);
   const double gain = config_.gain_compensation && std::isfinite(st.right_gain) ? st.right_gain : 1.0;
   ContrastMatchedLevels matched_levels(left.pyramid, right.pyramid, gain);
 
-  for (const DescriptorMatch& dm : descriptor_matches) {
+  for (std::size_t m = 0; m < descriptor_matches.size(); ++m) {
     // Sub-pixel u_R: SAD search on the left keypoint's level around the matched right column, then the
     // sub-pixel fit of stereo.subpixel_cost.
-    const PatchPair p = patch_pair(dm);
+    const DescriptorMatch& dm = descriptor_matches[m];
+    const PatchPair& p = pairs[m];
     const double scale = scales_[static_cast<std::size_t>(p.level)];
     const cv::Mat& IL = matched_levels.left(p.level);
     const cv::Mat& IR = matched_levels.right(p.level);

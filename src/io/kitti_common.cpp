@@ -4,9 +4,12 @@
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
+#include <mutex>
 #include <sstream>
 #include <system_error>
 
+#include <spdlog/spdlog.h>
+#include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 
 #include "core/error.hpp"
@@ -72,11 +75,32 @@ ImageFileList list_png_files(const fs::path& dir) {
   return files;
 }
 
+cv::Mat gray16_to_8bit(const cv::Mat& image) {
+  double max_value = 0.0;
+  cv::minMaxLoc(image, nullptr, &max_value);
+  int bits = 8;
+  while (bits < 16 && max_value >= static_cast<double>(1 << bits)) ++bits;
+  cv::Mat out;
+  image.convertTo(out, CV_8U, 255.0 / static_cast<double>((1 << bits) - 1));
+  return out;
+}
+
 cv::Mat read_gray_image(const fs::path& file, int width, int height) {
   std::error_code ec;
   if (!fs::is_regular_file(file, ec)) throw InputError(file.string(), "image is missing");
-  cv::Mat img = cv::imread(file.string(), cv::IMREAD_GRAYSCALE);
+  cv::Mat img = cv::imread(file.string(), cv::IMREAD_GRAYSCALE | cv::IMREAD_ANYDEPTH);
   if (img.empty()) throw InputError(file.string(), "image is unreadable (not a valid image file)");
+  if (img.depth() == CV_16U) {
+    static std::once_flag logged;
+    std::call_once(logged, [&] {
+      spdlog::info("{}: 16-bit image; scaled to 8 bits by the bit depth its values use (every 16-bit image)",
+                   file.string());
+    });
+    img = gray16_to_8bit(img);
+  } else if (img.depth() != CV_8U) {
+    throw InputError(file.string(),
+                     "image has an unsupported pixel depth (8- or 16-bit grey or colour expected)");
+  }
   if (width > 0 && (img.cols != width || img.rows != height)) {
     throw InputError(file.string(), "image is " + std::to_string(img.cols) + "x" + std::to_string(img.rows) +
                                         ", expected " + std::to_string(width) + "x" + std::to_string(height) +

@@ -35,8 +35,13 @@ void require_directory(const std::filesystem::path& dir, const std::string& what
 /// Checks that `file` exists and is a regular file; throws InputError naming it otherwise.
 void require_file(const std::filesystem::path& file, const std::string& what);
 
-/// Reads an 8-bit grayscale image; throws InputError naming the file if missing or unreadable, or if its size
-/// is not width×height (when width > 0).
+/// A 16-bit grey image scaled to 8 bits by the bit depth its values use (the smallest b ≥ 8 with max < 2^b:
+/// cameras store 10- or 12-bit data in 16-bit PNGs, and OpenCV's own conversion keeps the high byte, which
+/// leaves a 12-bit image at grey levels 0–15).
+cv::Mat gray16_to_8bit(const cv::Mat& image);
+
+/// Reads a grayscale image as 8 bits (colour converted to grey, 16-bit by gray16_to_8bit); throws InputError
+/// naming the file if missing or unreadable, or if its size is not width×height (when width > 0).
 cv::Mat read_gray_image(const std::filesystem::path& file, int width = 0, int height = 0);
 
 /// Image i of one side's image list (8-bit, width×height when width > 0). Throws InputError naming `name`

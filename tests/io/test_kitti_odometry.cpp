@@ -185,6 +185,39 @@ TEST(KittiOdometry, ImageSizeCheckedOnLoad) {
   expect_input_error([&] { ds.load(2); }, "000002.png", "expected 40x30");
 }
 
+// 16-bit PNGs (machine-vision cameras store 10- or 12-bit data in them) are scaled by the bit depth their
+// values use; OpenCV's own 8-bit conversion keeps the high byte and would leave a 12-bit image at 0–15.
+TEST(KittiOdometry, SixteenBitImagesAreScaledByTheirBitDepth) {
+  const auto root = test::fresh_temp_dir("kitti_odo_16");
+  const auto seq = make_fake_kitti_sequence(root, 3);
+  const auto write16 = [&](const fs::path& file, int max_value) {
+    cv::Mat img(test::kFakeHeight, test::kFakeWidth, CV_16UC1);
+    for (int r = 0; r < img.rows; ++r)
+      for (int c = 0; c < img.cols; ++c)
+        img.at<std::uint16_t>(r, c) =
+            static_cast<std::uint16_t>((r * img.cols + c) * max_value / (img.total() - 1));
+    ASSERT_TRUE(cv::imwrite(file.string(), img)) << file;
+  };
+  write16(seq / "image_0" / "000001.png", 4095);   // 12-bit data
+  write16(seq / "image_1" / "000001.png", 65535);  // the full 16 bits
+  write16(seq / "image_0" / "000002.png", 200);    // 8-bit data in a 16-bit file: unchanged
+  KittiOdometryDataset ds(seq.string());
+  const StereoFrame f = ds.load(1);
+  ASSERT_EQ(f.left.type(), CV_8UC1);
+  ASSERT_EQ(f.right.type(), CV_8UC1);
+  double lo = 0.0, hi = 0.0;
+  cv::minMaxLoc(f.left, &lo, &hi);
+  EXPECT_EQ(lo, 0.0);
+  EXPECT_EQ(hi, 255.0);
+  cv::minMaxLoc(f.right, &lo, &hi);
+  EXPECT_EQ(hi, 255.0);
+  // the middle of the 12-bit ramp lands in the middle of the 8-bit range
+  const int mid = static_cast<int>(f.left.total() / 2);
+  EXPECT_NEAR(f.left.at<std::uint8_t>(mid / f.left.cols, mid % f.left.cols), 127.5, 1.0);
+  cv::minMaxLoc(ds.load(2).left, &lo, &hi);
+  EXPECT_EQ(hi, 200.0);
+}
+
 TEST(KittiOdometry, EachSideLoadsAloneAsInThePair) {
   const auto root = test::fresh_temp_dir("kitti_odo_side");
   const auto seq = make_fake_kitti_sequence(root, 3);
