@@ -1,7 +1,7 @@
 #pragma once
 // The contrast of the right camera relative to the left (stereo.gain_compensation). Cameras of a pair that
 // expose or amplify independently see the same scene with different contrast (the EuRoC slice's right
-// camera: 0.91 of the left's). The sub-pixel costs remove a brightness offset, not a gain, and a gain bends
+// camera: 1/1.13 of the left's). The sub-pixel costs remove a brightness offset, not a gain, and a gain bends
 // the SAD curve: on rendered frames with the right image at 0.7 of the left's contrast the centre fit's
 // disparity bias grows from +0.03 to +0.08 px (tests/frontend/test_stereo_disparity_bias.cpp), which
 // stretches the whole trajectory. The gain is estimated per frame from the descriptor matches' patches and

@@ -32,10 +32,10 @@ class StereoMatcher {
   /// whose disparity u_L − u_R lies in [f·b/max_depth, f·b/min_depth]. The best Hamming distance must be
   /// under max_hamming and pass the ratio test; with gain_compensation the right camera's contrast relative
   /// to the left's is estimated from these matches' patches and levelled out (stereo_gain.hpp); u_R is then
-  /// refined by a SAD search on the keypoint's pyramid
-  /// level with the sub-pixel fit of subpixel_cost (centre: parabola; zero_mean: equiangular, kept where the
-  /// centre cost's minimum lies within one pixel of the level); each right keypoint is used once (lowest
-  /// distance wins); matches whose SAD exceeds outlier_sad_factor × the frame's median SAD are dropped.
+  /// refined by a SAD search on the keypoint's pyramid level with the sub-pixel fit of subpixel_cost (centre:
+  /// parabola; zero_mean: equiangular, kept where the centre cost's minimum lies within one pixel of the
+  /// level); each right keypoint is used once (lowest distance wins); matches whose SAD exceeds
+  /// outlier_sad_factor × the frame's median SAD are dropped.
   /// `left_to_measurement` (optional) receives, for every left keypoint, the index of its measurement or −1.
   StereoMeasurementList match(const OrbFeatures& left, const OrbFeatures& right,
                               std::vector<int>* left_to_measurement = nullptr,

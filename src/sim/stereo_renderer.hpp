@@ -24,7 +24,8 @@ struct PhotometricOptions {
                              ///< Gaussian: Irwin–Hall sum of four uniform bytes, pixel_noise.hpp)
   double vignetting = 0.2;  ///< relative darkening at the image corners: gain = 1 − vignetting·(r/r_corner)²
   double exposure_sigma = 0.04;  ///< per-frame, per-camera log-gain standard deviation
-  double right_gain = 1.0;  ///< the right camera's gain relative to the left's (cameras exposed independently)
+  double right_gain =
+      1.0;  ///< the right camera's gain relative to the left's (cameras exposed independently)
 };
 
 struct RenderOptions {

@@ -18,10 +18,9 @@ std::map<std::string, double> rectification_metrics(const frontend::Rectificatio
   if (s.corner_max_px - 2.0 * s.corner_max_se_px >= kRectificationWarningPx) {
     spdlog::warn(
         "the stereo pair is not row-aligned: the right image is {:+.2f} px off the left's rows in the median "
-        "and "
-        "up to {:.2f} ± {:.2f} px at the image corners ({} matches re-aligned); stereo matching searches "
-        "rows, so depths "
-        "lose accuracy: check the calibration and rectification (metrics.json 'rectification')",
+        "and up to {:.2f} ± {:.2f} px at the image corners ({} matches re-aligned); stereo matching searches "
+        "rows, so depths lose accuracy: check the calibration and rectification (metrics.json "
+        "'rectification')",
         s.median_px, s.corner_max_px, s.corner_max_se_px, s.samples);
   }
   return m;

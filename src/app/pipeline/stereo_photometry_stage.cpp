@@ -5,6 +5,8 @@
 
 #include <spdlog/spdlog.h>
 
+#include "core/stopwatch.hpp"
+
 namespace glmbslam::app {
 
 std::map<std::string, double> stereo_photometry_metrics(const std::vector<double>& right_gains,
@@ -16,17 +18,17 @@ std::map<std::string, double> stereo_photometry_metrics(const std::vector<double
   std::map<std::string, double> m = {{"frames", static_cast<double>(g.size())},
                                      {"compensated", compensated ? 1.0 : 0.0}};
   if (g.empty()) return m;
-  std::sort(g.begin(), g.end());
-  const double median = g[g.size() / 2];
+  const double median = quantile(g, 0.5);
+  const auto [lo, hi] = std::minmax_element(g.begin(), g.end());
   m["right_gain_median"] = median;
-  m["right_gain_min"] = g.front();
-  m["right_gain_max"] = g.back();
+  m["right_gain_min"] = *lo;
+  m["right_gain_max"] = *hi;
   if (std::abs(median - 1.0) >= kStereoGainNoticeFraction) {
     if (compensated) {
       spdlog::info(
           "the left camera shows {:.2f}× the right's contrast in the median (frames {:.2f}…{:.2f}); levelled "
           "out before the sub-pixel stereo search (metrics.json 'stereo_photometry')",
-          median, g.front(), g.back());
+          median, *lo, *hi);
     } else {
       spdlog::warn(
           "the left camera shows {:.2f}× the right's contrast in the median and frontend.stereo."
