@@ -13,7 +13,7 @@ void load_mlslam_config(ConfigNode node, MlSlamConfig& c) {
   node.read_in_range("initial_trust_region_radius", c.initial_trust_region_radius, 1e-6, 1e16);
   node.read_choice("motion_noise", c.motion_noise, {"configured", "estimated"});
   node.read_choice("linear_solver", c.linear_solver,
-                   {"auto", "sparse_schur", "iterative_schur", "sparse_normal_cholesky"});
+                   {"auto", "dense_schur", "sparse_schur", "iterative_schur", "sparse_normal_cholesky"});
   node.read_in_range("max_assignments", c.max_assignments, 1, 100000);
   node.read_in_range("assignment_log_gap", c.assignment_log_gap, 0.0, 1e6);
   node.read_in_range("gate", c.gate, 0.0, 1e9);
@@ -38,10 +38,11 @@ void validate_mlslam_config(const MlSlamConfig& c) {
   if (c.association != "rfs" && c.association != "nearest_neighbour") {
     throw ConfigError("mlslam.association must be rfs or nearest_neighbour, got '" + c.association + "'");
   }
-  if (c.linear_solver != "auto" && c.linear_solver != "sparse_schur" &&
+  if (c.linear_solver != "auto" && c.linear_solver != "dense_schur" && c.linear_solver != "sparse_schur" &&
       c.linear_solver != "iterative_schur" && c.linear_solver != "sparse_normal_cholesky") {
     throw ConfigError(
-        "mlslam.linear_solver must be auto, sparse_schur, iterative_schur or sparse_normal_cholesky, got '" +
+        "mlslam.linear_solver must be auto, dense_schur, sparse_schur, iterative_schur or "
+        "sparse_normal_cholesky, got '" +
         c.linear_solver + "'");
   }
   if (c.motion_noise != "configured" && c.motion_noise != "estimated") {

@@ -38,6 +38,7 @@
 #include "backend/mlslam/ceres_factors_2d.hpp"
 #include "backend/mlslam/em_rounds.hpp"
 #include "backend/mlslam/landmark_grid.hpp"
+#include "backend/mlslam/m_step_linear_solver.hpp"
 #include "backend/mlslam/ml_slam_report.hpp"
 #include "backend/mlslam/mlslam_config.hpp"
 #include "backend/mlslam/move_gains.hpp"
@@ -272,14 +273,6 @@ class RfsMlSlam {
   /// MlSlamConfig::motion_noise "estimated" (the vector baseline keeps its unit-weight cost)
   bool estimates_motion_noise() const { return config_.motion_noise == "estimated" && !nearest_neighbour(); }
 
-  ceres::LinearSolverType linear_solver(std::size_t poses) const {
-    const std::string& s = config_.linear_solver;
-    if (s == "iterative_schur") return ceres::ITERATIVE_SCHUR;
-    if (s == "sparse_normal_cholesky" || (s == "auto" && poses > MlSlamConfig::kAutoSchurPoses))
-      return ceres::SPARSE_NORMAL_CHOLESKY;
-    return ceres::SPARSE_SCHUR;
-  }
-
   ScanLikelihoodOptions scan_options() const {
     ScanLikelihoodOptions o;
     o.gate = config_.gate;
@@ -434,7 +427,7 @@ class RfsMlSlam {
     if (!problem.HasParameterBlock(block(0))) return;
     problem.SetParameterBlockConstant(block(0));
     ceres::Solver::Options so;
-    so.linear_solver_type = linear_solver(K);
+    so.linear_solver_type = m_step_linear_solver(config_, K);
     if (so.linear_solver_type != ceres::SPARSE_NORMAL_CHOLESKY) {
       // bundle-adjustment shape: the landmarks (group 0) are eliminated first; the ordering is given, not
       // searched for

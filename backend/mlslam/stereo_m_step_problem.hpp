@@ -16,6 +16,7 @@
 #include <Eigen/StdVector>
 
 #include "backend/mlslam/ceres_factors_3d.hpp"
+#include "backend/mlslam/m_step_linear_solver.hpp"
 #include "backend/mlslam/mlslam_config.hpp"
 #include "backend/mlslam/stereo_fill_reducing_ordering.hpp"
 #include "backend/models/se3_motion.hpp"
@@ -49,7 +50,7 @@ class StereoMStepProblem {
           make_relative_pose_factor(controls[i].delta, whitening(motion.process_noise(any, controls[i]))),
           nullptr, pose(i - 1), pose(i));
     }
-    options_.linear_solver_type = linear_solver_for(config, K);
+    options_.linear_solver_type = m_step_linear_solver(config, K);
     options_.max_num_iterations = config.solver_iterations;
     options_.initial_trust_region_radius = config.initial_trust_region_radius;
     options_.num_threads = 1;
@@ -104,15 +105,6 @@ class StereoMStepProblem {
 
   /// Measurement factors in the problem (pairs associated in some round so far).
   std::size_t pairs() const { return factors_.size(); }
-
-  /// RfsMlSlam's choice: sparse Schur up to MlSlamConfig::kAutoSchurPoses poses, normal Cholesky beyond.
-  static ceres::LinearSolverType linear_solver_for(const MlSlamConfig& c, std::size_t poses) {
-    if (c.linear_solver == "iterative_schur") return ceres::ITERATIVE_SCHUR;
-    if (c.linear_solver == "sparse_normal_cholesky" ||
-        (c.linear_solver == "auto" && poses > MlSlamConfig::kAutoSchurPoses))
-      return ceres::SPARSE_NORMAL_CHOLESKY;
-    return ceres::SPARSE_SCHUR;
-  }
 
  private:
   static ceres::Problem::Options problem_options() {

@@ -5,6 +5,7 @@
 
 #include <ceres/gradient_checker.h>
 
+#include "backend/mlslam/m_step_linear_solver.hpp"
 #include "backend/mlslam/stereo_ml_slam.hpp"
 #include "core/parallel.hpp"
 #include "core/random.hpp"
@@ -182,13 +183,15 @@ TEST(MlSlamStereoSolver, ConvergesFromAPerturbedStart) {
   EXPECT_LT(max_position_error(x, p.truth), max_position_error(p.odometry, p.truth));
 }
 
-/// The M-step's linear solvers (Schur elimination of the landmarks, exact or by conjugate gradients, and the
-/// plain normal equations) solve the same least-squares problem: the same optimum, cardinality moves off.
+/// The M-step's linear solvers (Schur elimination of the landmarks, factorised densely or sparsely or solved
+/// by conjugate gradients, and the plain normal equations) solve the same least-squares problem: the same
+/// optimum, cardinality moves off.
 TEST(MlSlamStereoSolver, LinearSolversReachTheSameOptimum) {
   const StereoProblem p = make_stereo_problem(12, 3);
   std::vector<StereoMlSlam::PoseList> poses;
   std::vector<double> l;
-  for (const char* solver : {"sparse_normal_cholesky", "sparse_schur", "iterative_schur", "auto"}) {
+  for (const char* solver :
+       {"sparse_normal_cholesky", "dense_schur", "sparse_schur", "iterative_schur", "auto"}) {
     MlSlamConfig c = stereo_config();
     c.cardinality_moves = false;
     c.linear_solver = solver;
@@ -206,6 +209,22 @@ TEST(MlSlamStereoSolver, LinearSolversReachTheSameOptimum) {
   }
   EXPECT_GT(l[0], StereoMlSlam(p.motion, p.model, stereo_config())
                       .log_likelihood(p.odometry, p.controls, p.scans, p.landmarks));
+}
+
+/// "auto" takes the dense Schur complement for a window's few poses, the sparse one up to 200 poses and the
+/// normal equations beyond; a named solver is taken at any size.
+TEST(MlSlamStereoSolver, AutoPicksTheLinearSolverByPoseCount) {
+  MlSlamConfig c;
+  c.linear_solver = "auto";
+  EXPECT_EQ(m_step_linear_solver(c, 10), ceres::DENSE_SCHUR);
+  EXPECT_EQ(m_step_linear_solver(c, MlSlamConfig::kAutoDensePoses), ceres::DENSE_SCHUR);
+  EXPECT_EQ(m_step_linear_solver(c, MlSlamConfig::kAutoDensePoses + 1), ceres::SPARSE_SCHUR);
+  EXPECT_EQ(m_step_linear_solver(c, MlSlamConfig::kAutoSchurPoses), ceres::SPARSE_SCHUR);
+  EXPECT_EQ(m_step_linear_solver(c, MlSlamConfig::kAutoSchurPoses + 1), ceres::SPARSE_NORMAL_CHOLESKY);
+  c.linear_solver = "sparse_schur";
+  EXPECT_EQ(m_step_linear_solver(c, 10), ceres::SPARSE_SCHUR);
+  c.linear_solver = "dense_schur";
+  EXPECT_EQ(m_step_linear_solver(c, 5000), ceres::DENSE_SCHUR);
 }
 
 TEST(MlSlamStereoSolver, SameInputSameOutputAtAnyThreadCount) {
