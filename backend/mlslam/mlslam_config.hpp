@@ -29,10 +29,10 @@ struct MlSlamConfig {
   /// particles must cover slips and outliers), which the batch solve does not need. RfsMlSlam only.
   std::string motion_noise = "configured";
   /// The M-step's linear solver (Ceres; m_step_linear_solver.hpp): "dense_schur" / "sparse_schur" (landmarks
-  /// eliminated, the reduced pose system factorised densely by Eigen / sparsely by CHOLMOD), "sparse_normal_
-  /// cholesky" (the whole normal equations, fill-reducing ordering), "iterative_schur" (conjugate gradients
-  /// on the reduced system, Schur–Jacobi preconditioned), or "auto": dense_schur up to kAutoDensePoses poses,
-  /// sparse_schur up to kAutoSchurPoses, sparse_normal_cholesky beyond. On rendered KITTI 07 with 3 LM
+  /// eliminated, the reduced pose system factorised densely by Eigen / sparsely by CHOLMOD),
+  /// "sparse_normal_cholesky" (the whole normal equations, fill-reducing ordering), "iterative_schur"
+  /// (conjugate gradients on the reduced system, Schur–Jacobi preconditioned), or "auto": dense_schur up to
+  /// kAutoDensePoses poses, sparse_schur up to kAutoSchurPoses, sparse_normal_cholesky beyond. On rendered KITTI 07 with 3 LM
   /// iterations sparse_schur took 0.6 s per M-step on 300 frames but 18.5 s on all 1101 (landmarks seen from
   /// many poses fill the reduced pose system in), iterative_schur 18 s on 700 frames. A sliding window's
   /// reduced system (60 × 60 for 10 stereo poses) is cheaper dense: no symbolic analysis and no BLAS threads,
