@@ -32,11 +32,11 @@ struct MlSlamConfig {
   /// eliminated, the reduced pose system factorised densely by Eigen / sparsely by CHOLMOD),
   /// "sparse_normal_cholesky" (the whole normal equations, fill-reducing ordering), "iterative_schur"
   /// (conjugate gradients on the reduced system, Schur–Jacobi preconditioned), or "auto": dense_schur up to
-  /// kAutoDensePoses poses, sparse_schur up to kAutoSchurPoses, sparse_normal_cholesky beyond. On rendered KITTI 07 with 3 LM
-  /// iterations sparse_schur took 0.6 s per M-step on 300 frames but 18.5 s on all 1101 (landmarks seen from
-  /// many poses fill the reduced pose system in), iterative_schur 18 s on 700 frames. A sliding window's
-  /// reduced system (60 × 60 for 10 stereo poses) is cheaper dense: no symbolic analysis and no BLAS threads,
-  /// which spin (sched_yield) against the frontend's thread (docs/investigations.md).
+  /// kAutoDensePoses poses, sparse_schur up to kAutoSchurPoses, sparse_normal_cholesky beyond. On rendered
+  /// KITTI 07 with 3 LM iterations sparse_schur took 0.6 s per M-step on 300 frames but 18.5 s on all 1101
+  /// (landmarks seen from many poses fill the reduced pose system in), iterative_schur 18 s on 700 frames. A
+  /// sliding window's reduced system (60 × 60 for 10 stereo poses) is cheaper dense: no symbolic analysis and
+  /// no BLAS threads, which spin (sched_yield) against the frontend's thread (docs/investigations.md).
   std::string linear_solver = "auto";
   static constexpr std::size_t kAutoDensePoses = 50;
   static constexpr std::size_t kAutoSchurPoses = 200;
