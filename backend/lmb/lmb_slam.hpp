@@ -85,9 +85,13 @@ class LmbSlam {
   void step(const Control& u, const MeasurementSet& Z) {
     Stopwatch watch;
     const int k = begin_step(set_, updater_, u, Z);
-    stats_.resize(set_.particles().size());
-    const ParticleStepResult r =
-        set_.step([&](std::size_t i, RandomStream& rng, const Particle& p, Particle& out) {
+    const std::size_t n = set_.particles().size();
+    stats_.resize(n);
+    parents_.resize(n);
+    map_log_.resize(n);
+    for (std::size_t i = 0; i < n; ++i) parents_[i] = set_.particles()[i].trajectory.get();
+    const ParticleStepResult r = set_.step(
+        [&](std::size_t i, RandomStream& rng, const Particle& p, Particle& out) {
           State x, x_estimate;
           auto view = [&]() -> const GlmbMap<Meas>& {  // the optimal kernel reads the most probable label set
             thread_local GlmbMap<Meas> v;
@@ -98,12 +102,17 @@ class LmbSlam {
               draw_pose(weighting_, motion_, proposal_, view, p.trajectory->pose, u, Z, rng, x, x_estimate);
           auto map = std::make_shared<Map>();
           const LmbUpdateStats s = updater_.update(*p.map, x, Z, k, rng, *map);
-          log_increment += weighting_.map_factor(s);
+          map_log_[i] = weighting_.map_factor(s);
+          log_increment += map_log_[i];
           out.trajectory = std::make_shared<const Node>(x, x_estimate, k, p.trajectory);
           out.map = std::move(map);
           stats_[i] = s;
           return log_increment;
-        });
+        },
+        [&](std::vector<Particle>& next) {
+          if (weighting_.sibling_mean) pool_sibling_normalizers(parents_, map_log_, next, pool_scratch_);
+        },
+        [](const std::vector<Particle>&, const ParticleStepResult&) {});
     LmbStepReport report;
     report.step = k;
     report.ess = r.ess;
@@ -161,6 +170,9 @@ class LmbSlam {
   LmbUpdater<Meas> updater_;
   OptimalProposal<Motion, Meas> proposal_;
   ProposalWeighting weighting_;
+  std::vector<const void*> parents_;  ///< this step's child i: its parent's trajectory node (sibling_mean)
+  std::vector<double> map_log_;       ///< this step's child i: its map factor log Ĝ
+  std::vector<double> pool_scratch_;
   ParticleSet<State, Map> set_;
   std::vector<LmbUpdateStats> stats_;
   LmbStepReport last_;

@@ -111,6 +111,9 @@ class GlmbSlam {
     }
     retired_.clear();
     for (const auto& p : set_.particles()) retired_.push_back(p.map);
+    parents_.resize(n);
+    map_log_.resize(n);
+    for (std::size_t i = 0; i < n; ++i) parents_[i] = set_.particles()[i].trajectory.get();
     auto propagate = [&](std::size_t i, RandomStream& rng, const Particle& p, Particle& out) {
       State x;
       State x_estimate;
@@ -124,14 +127,18 @@ class GlmbSlam {
       }
       std::shared_ptr<Map> map = std::move(fresh_[i]);
       const GlmbUpdateStats s = updater_.update(*p.map, x, Z, k, rng, *map);
-      log_increment += weighting_.map_factor(s);
+      map_log_[i] = weighting_.map_factor(s);
+      log_increment += map_log_[i];
       out.trajectory = std::make_shared<const Node>(x, x_estimate, k, p.trajectory);
       out.map = std::move(map);
       stats_[i] = s;
       return log_increment;
     };
+    auto adjust = [&](std::vector<Particle>& next) {
+      if (weighting_.sibling_mean) pool_sibling_normalizers(parents_, map_log_, next, pool_scratch_);
+    };
     const ParticleStepResult r =
-        set_.step(propagate, [&](const std::vector<Particle>& next, const ParticleStepResult&) {
+        set_.step(propagate, adjust, [&](const std::vector<Particle>& next, const ParticleStepResult&) {
           weighted_mean_ = weighted_mean(next);
         });
     // the previous maps no particle uses any more go to the pool (each once; the const_pointer_cast is
@@ -209,6 +216,9 @@ class GlmbSlam {
   std::vector<std::shared_ptr<const Map>> retired_;  ///< the previous step's maps, checked for reuse
   std::vector<GlmbUpdateStats> stats_;
   State weighted_mean_;
+  std::vector<const void*> parents_;  ///< this step's child i: its parent's trajectory node (sibling_mean)
+  std::vector<double> map_log_;       ///< this step's child i: its map factor log Ĝ
+  std::vector<double> pool_scratch_;
   StepReport last_;
 };
 

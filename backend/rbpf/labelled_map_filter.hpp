@@ -8,10 +8,12 @@
 //  - the pose draw of proposals "prior" (x ~ f(·|x⁻, u), δ-GLMB-SLAM 1.0) and "optimal" (the optimal-kernel
 //    Gaussian of δ-GLMB-SLAM 2.0, optimal_proposal.hpp) with its weight factor (paper 000 Eq. 33 as printed
 //    for weighting "paper", f/q otherwise), and the map's factor log Ĝ added to it.
+#include <cmath>
 #include <cstdint>
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "backend/glmb/glmb_map.hpp"
 #include "backend/rbpf/optimal_proposal.hpp"
@@ -19,6 +21,7 @@
 #include "backend/rbpf/rbpf_config.hpp"
 #include "core/error.hpp"
 #include "core/gaussian.hpp"
+#include "core/log_math.hpp"
 #include "core/random.hpp"
 
 namespace glmbslam::backend {
@@ -28,8 +31,9 @@ namespace glmbslam::backend {
 inline void validate_rbpf_weighting(const RbpfConfig& config) {
   if (config.weighting != "importance" && config.weighting != "paper")
     throw ConfigError("rbpf.weighting must be 'importance' or 'paper'");
-  if (config.particle_normalizer != "sampled" && config.particle_normalizer != "factorized")
-    throw ConfigError("rbpf.particle_normalizer must be 'sampled' or 'factorized'");
+  if (config.particle_normalizer != "sampled" && config.particle_normalizer != "factorized" &&
+      config.particle_normalizer != "sibling_mean")
+    throw ConfigError("rbpf.particle_normalizer must be 'sampled', 'factorized' or 'sibling_mean'");
   if (config.single_particle != "sample" && config.single_particle != "mean")
     throw ConfigError("rbpf.single_particle must be 'sample' or 'mean'");
   if (!(config.proposal_scale >= 0.0 && config.proposal_scale <= 1.0))
@@ -65,14 +69,16 @@ int begin_step(const ParticleSet<State, Map>& set, const Updater& updater, const
 
 /// How a particle's weight is formed (RbpfConfig: proposal, weighting, particle_normalizer).
 struct ProposalWeighting {
-  bool optimal = false;     ///< proposal "optimal" (else the prior, or a filter's own proposal)
-  bool paper = false;       ///< weighting "paper": paper 000 Eq. 33 as printed
-  bool factorized = false;  ///< particle_normalizer "factorized"
+  bool optimal = false;       ///< proposal "optimal" (else the prior, or a filter's own proposal)
+  bool paper = false;         ///< weighting "paper": paper 000 Eq. 33 as printed
+  bool factorized = false;    ///< particle_normalizer "factorized"
+  bool sibling_mean = false;  ///< particle_normalizer "sibling_mean" (pool_sibling_normalizers)
 
   explicit ProposalWeighting(const RbpfConfig& config)
       : optimal(config.proposal == "optimal"),
         paper(config.weighting == "paper"),
-        factorized(config.particle_normalizer == "factorized") {}
+        factorized(config.particle_normalizer == "factorized"),
+        sibling_mean(config.particle_normalizer == "sibling_mean" && !(optimal && paper)) {}
 
   /// The map's factor of the weight: log Ĝ (sampled or factorised normaliser), except for the optimal
   /// proposal with weighting "paper", whose Eq. 33 already holds it.
@@ -82,6 +88,30 @@ struct ProposalWeighting {
     return factorized ? s.log_normalizer_factorized : s.log_normalizer;
   }
 };
+
+/// particle_normalizer "sibling_mean": the children of one parent (parents[i] identifies child i's parent)
+/// share the log-mean-exp of their map factors map_log[i] (the sampled log Ĝ), which replaces each child's
+/// own in its log weight. Children with a non-finite weight or factor are left out and unchanged.
+template <class Particle>
+void pool_sibling_normalizers(const std::vector<const void*>& parents, const std::vector<double>& map_log,
+                              std::vector<Particle>& next, std::vector<double>& scratch) {
+  const std::size_t n = next.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!std::isfinite(map_log[i]) || next[i].log_weight == kLogZero) continue;
+    bool first = true;  // the group is handled at its first finite member
+    for (std::size_t j = 0; j < i && first; ++j)
+      first = !(parents[j] == parents[i] && std::isfinite(map_log[j]) && next[j].log_weight != kLogZero);
+    if (!first) continue;
+    scratch.clear();
+    for (std::size_t j = i; j < n; ++j)
+      if (parents[j] == parents[i] && std::isfinite(map_log[j]) && next[j].log_weight != kLogZero)
+        scratch.push_back(map_log[j]);
+    const double pooled = log_sum_exp(scratch) - std::log(static_cast<double>(scratch.size()));
+    for (std::size_t j = i; j < n; ++j)
+      if (parents[j] == parents[i] && std::isfinite(map_log[j]) && next[j].log_weight != kLogZero)
+        next[j].log_weight += pooled - map_log[j];
+  }
+}
 
 /// Draws x (and its point estimate: the proposal mean, or x itself for the prior) from x⁻ = x_prev with
 /// control u: the optimal kernel built on the δ-GLMB map `view()` (called only for proposal "optimal") or

@@ -81,6 +81,15 @@ class ParticleSet {
   /// normalised particles before the swap and resampling.
   template <class Propagate, class OnWeighted>
   ParticleStepResult step(Propagate&& propagate, OnWeighted&& on_weighted) {
+    return step(
+        std::forward<Propagate>(propagate), [](std::vector<Particle>&) {},
+        std::forward<OnWeighted>(on_weighted));
+  }
+  /// As above; `adjust(next)` may change the new particles' (unnormalised) log weights after every particle
+  /// was propagated (e.g. to pool an estimate over the children of one parent: particles()[i] is child i's
+  /// parent).
+  template <class Propagate, class Adjust, class OnWeighted>
+  ParticleStepResult step(Propagate&& propagate, Adjust&& adjust, OnWeighted&& on_weighted) {
     const int k = step_ + 1;
     const std::size_t n = particles_.size();
     next_.resize(n);
@@ -92,6 +101,7 @@ class ParticleSet {
       out.log_weight = p.log_weight + log_increment;
       if (!std::isfinite(out.log_weight)) out.log_weight = kLogZero;
     });
+    adjust(next_);
     log_w_.resize(n);
     for (std::size_t i = 0; i < n; ++i) log_w_[i] = next_[i].log_weight;
     if (log_sum_exp(log_w_) == kLogZero) std::fill(log_w_.begin(), log_w_.end(), 0.0);  // all failed: uniform

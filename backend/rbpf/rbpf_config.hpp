@@ -35,8 +35,11 @@ struct RbpfConfig {
   /// proposal's association sampler, with the update's η of a birth: "never" (paper 000: tracks only),
   /// "empty_view" (only when no mapped landmark is in view of x̄, e.g. step 1 after initial_scan) or "always"
   std::string proposal_births = "never";
-  /// Ĝ(x) in the particle weight: "sampled" (the sum over the Gibbs sampler's children, paper 000) or
-  /// "factorized" (GlmbUpdateStats::log_normalizer_factorized: no sampler noise)
+  /// Ĝ(x) in the particle weight: "sampled" (the sum over the Gibbs sampler's children, paper 000),
+  /// "factorized" (GlmbUpdateStats::log_normalizer_factorized: no sampler noise, an upper bound where rows
+  /// share a measurement) or "sibling_mean" (the sampled Ĝ averaged, log-mean-exp, over the children of one
+  /// parent: they update the same map with the same measurements and, at proposal_scale 0, the same pose, so
+  /// the exact G is theirs alike and their differences are the sampler's coverage alone)
   std::string particle_normalizer = "sampled";
   /// With one particle: "sample" draws the pose from the optimal-kernel proposal (paper 000); "mean" takes
   /// the proposal's mean (the minimum-MSE point; a lone particle has no weights to correct its draw noise)
