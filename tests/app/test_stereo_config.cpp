@@ -13,6 +13,8 @@ namespace {
 void expect_same(const StereoConfig& a, const StereoConfig& b, const std::string& file) {
   SCOPED_TRACE(file);
   EXPECT_EQ(a.frontend.orb.features, b.frontend.orb.features);
+  EXPECT_EQ(a.rbpf.proposal_scale, b.rbpf.proposal_scale);
+  EXPECT_EQ(a.rbpf.particle_normalizer, b.rbpf.particle_normalizer);
   EXPECT_EQ(a.frontend.stereo.max_depth_m, b.frontend.stereo.max_depth_m);
   EXPECT_EQ(a.frontend.vo.min_inliers, b.frontend.vo.min_inliers);
   EXPECT_EQ(a.motion.covariance_inflation, b.motion.covariance_inflation);
