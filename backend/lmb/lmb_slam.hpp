@@ -87,9 +87,7 @@ class LmbSlam {
     const int k = begin_step(set_, updater_, u, Z);
     const std::size_t n = set_.particles().size();
     stats_.resize(n);
-    parents_.resize(n);
     map_log_.resize(n);
-    for (std::size_t i = 0; i < n; ++i) parents_[i] = set_.particles()[i].trajectory.get();
     const ParticleStepResult r = set_.step(
         [&](std::size_t i, RandomStream& rng, const Particle& p, Particle& out) {
           State x, x_estimate;
@@ -110,7 +108,7 @@ class LmbSlam {
           return log_increment;
         },
         [&](std::vector<Particle>& next) {
-          if (weighting_.sibling_mean) pool_sibling_normalizers(parents_, map_log_, next, pool_scratch_);
+          if (weighting_.sibling_mean) pool_sibling_normalizers(map_log_, next, pool_scratch_);
         },
         [](const std::vector<Particle>&, const ParticleStepResult&) {});
     LmbStepReport report;
@@ -170,8 +168,7 @@ class LmbSlam {
   LmbUpdater<Meas> updater_;
   OptimalProposal<Motion, Meas> proposal_;
   ProposalWeighting weighting_;
-  std::vector<const void*> parents_;  ///< this step's child i: its parent's trajectory node (sibling_mean)
-  std::vector<double> map_log_;       ///< this step's child i: its map factor log Ĝ
+  std::vector<double> map_log_;  ///< this step's child i: its map factor log Ĝ (sibling_mean)
   std::vector<double> pool_scratch_;
   ParticleSet<State, Map> set_;
   std::vector<LmbUpdateStats> stats_;

@@ -111,9 +111,7 @@ class GlmbSlam {
     }
     retired_.clear();
     for (const auto& p : set_.particles()) retired_.push_back(p.map);
-    parents_.resize(n);
     map_log_.resize(n);
-    for (std::size_t i = 0; i < n; ++i) parents_[i] = set_.particles()[i].trajectory.get();
     auto propagate = [&](std::size_t i, RandomStream& rng, const Particle& p, Particle& out) {
       State x;
       State x_estimate;
@@ -135,7 +133,7 @@ class GlmbSlam {
       return log_increment;
     };
     auto adjust = [&](std::vector<Particle>& next) {
-      if (weighting_.sibling_mean) pool_sibling_normalizers(parents_, map_log_, next, pool_scratch_);
+      if (weighting_.sibling_mean) pool_sibling_normalizers(map_log_, next, pool_scratch_);
     };
     const ParticleStepResult r =
         set_.step(propagate, adjust, [&](const std::vector<Particle>& next, const ParticleStepResult&) {
@@ -216,8 +214,7 @@ class GlmbSlam {
   std::vector<std::shared_ptr<const Map>> retired_;  ///< the previous step's maps, checked for reuse
   std::vector<GlmbUpdateStats> stats_;
   State weighted_mean_;
-  std::vector<const void*> parents_;  ///< this step's child i: its parent's trajectory node (sibling_mean)
-  std::vector<double> map_log_;       ///< this step's child i: its map factor log Ĝ
+  std::vector<double> map_log_;  ///< this step's child i: its map factor log Ĝ (sibling_mean)
   std::vector<double> pool_scratch_;
   StepReport last_;
 };

@@ -89,27 +89,26 @@ struct ProposalWeighting {
   }
 };
 
-/// particle_normalizer "sibling_mean": the children of one parent (parents[i] identifies child i's parent)
-/// share the log-mean-exp of their map factors map_log[i] (the sampled log Ĝ), which replaces each child's
-/// own in its log weight. Children with a non-finite weight or factor are left out and unchanged.
+/// particle_normalizer "sibling_mean": the children of one parent (next[i].trajectory->parent) share the
+/// log-mean-exp of their map factors map_log[i] (the sampled log Ĝ), which replaces each child's own in its
+/// log weight. Children with a non-finite weight or factor are left out and unchanged.
 template <class Particle>
-void pool_sibling_normalizers(const std::vector<const void*>& parents, const std::vector<double>& map_log,
-                              std::vector<Particle>& next, std::vector<double>& scratch) {
+void pool_sibling_normalizers(const std::vector<double>& map_log, std::vector<Particle>& next,
+                              std::vector<double>& scratch) {
   const std::size_t n = next.size();
+  auto pooled = [&](std::size_t j) { return std::isfinite(map_log[j]) && next[j].log_weight != kLogZero; };
+  auto parent = [&](std::size_t j) { return next[j].trajectory->parent.get(); };
   for (std::size_t i = 0; i < n; ++i) {
-    if (!std::isfinite(map_log[i]) || next[i].log_weight == kLogZero) continue;
-    bool first = true;  // the group is handled at its first finite member
-    for (std::size_t j = 0; j < i && first; ++j)
-      first = !(parents[j] == parents[i] && std::isfinite(map_log[j]) && next[j].log_weight != kLogZero);
+    if (!pooled(i)) continue;
+    bool first = true;  // the group is handled at its first pooled member
+    for (std::size_t j = 0; j < i && first; ++j) first = !(pooled(j) && parent(j) == parent(i));
     if (!first) continue;
     scratch.clear();
     for (std::size_t j = i; j < n; ++j)
-      if (parents[j] == parents[i] && std::isfinite(map_log[j]) && next[j].log_weight != kLogZero)
-        scratch.push_back(map_log[j]);
-    const double pooled = log_sum_exp(scratch) - std::log(static_cast<double>(scratch.size()));
+      if (pooled(j) && parent(j) == parent(i)) scratch.push_back(map_log[j]);
+    const double mean = log_sum_exp(scratch) - std::log(static_cast<double>(scratch.size()));
     for (std::size_t j = i; j < n; ++j)
-      if (parents[j] == parents[i] && std::isfinite(map_log[j]) && next[j].log_weight != kLogZero)
-        next[j].log_weight += pooled - map_log[j];
+      if (pooled(j) && parent(j) == parent(i)) next[j].log_weight += mean - map_log[j];
   }
 }
 

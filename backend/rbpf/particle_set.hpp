@@ -86,8 +86,7 @@ class ParticleSet {
         std::forward<OnWeighted>(on_weighted));
   }
   /// As above; `adjust(next)` may change the new particles' (unnormalised) log weights after every particle
-  /// was propagated (e.g. to pool an estimate over the children of one parent: particles()[i] is child i's
-  /// parent).
+  /// was propagated (e.g. to pool an estimate over the children of one parent, next[i].trajectory->parent).
   template <class Propagate, class Adjust, class OnWeighted>
   ParticleStepResult step(Propagate&& propagate, Adjust&& adjust, OnWeighted&& on_weighted) {
     const int k = step_ + 1;

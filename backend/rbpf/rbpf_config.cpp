@@ -21,7 +21,8 @@ void load_rbpf_config(ConfigNode node, RbpfConfig& config) {
   node.read_in_range("ipl_tolerance", config.ipl_tolerance, 0.0, 1e6);
   node.read_in_range("proposal_gate_threshold", config.proposal_gate_threshold, 0.0, 1e6);
   node.read_choice("proposal_births", config.proposal_births, {"never", "empty_view", "always"});
-  node.read_choice("particle_normalizer", config.particle_normalizer, {"sampled", "factorized", "sibling_mean"});
+  node.read_choice("particle_normalizer", config.particle_normalizer,
+                   {"sampled", "factorized", "sibling_mean"});
   node.read_choice("single_particle", config.single_particle, {"sample", "mean"});
   node.read_in_range("proposal_scale", config.proposal_scale, 0.0, 1.0);
   load_glmb_config(node.child("glmb"), config.glmb);

@@ -100,9 +100,10 @@ frontend::PixelNoiseOptions pixel_noise_options(const StereoConfig& config) {
 StereoConfig default_stereo_config() {
   StereoConfig c;
   // One particle whose pose is the optimal-kernel proposal's mean (no sampling noise): with the VO control
-  // (rotation error ~0.002 deg per frame on rendered 00) the draws of 10 particles (paper 000's, as wide as the
-  // proposal) add more error than their diversity removes. Rendered 00 (4541 frames), SLAM t_rel / r_rel: N = 1 mean 0.281 % / 0.154, N = 10
-  // 0.403 % / 0.190, VO 0.323 % / 0.196 (figures in config/kitti00-02.yaml and the README).
+  // (rotation error ~0.002 deg per frame on rendered 00) the draws of 10 particles (paper 000's, as wide as
+  // the proposal) add more error than their diversity removes. Rendered 00 (4541 frames), SLAM t_rel / r_rel:
+  // N = 1 mean 0.281 % / 0.154, N = 10 0.403 % / 0.190, VO 0.323 % / 0.196 (figures in config/kitti00-02.yaml
+  // and the README).
   c.rbpf.particles = 1;
   c.rbpf.single_particle = "mean";
   // With --particles N > 1: each particle takes its proposal's mean (a draw as wide as the posterior put its

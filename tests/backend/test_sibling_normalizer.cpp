@@ -7,32 +7,49 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <memory>
 #include <vector>
 
 #include "backend/models/range_bearing_model.hpp"
 #include "backend/models/unicycle_motion.hpp"
 #include "backend/rbpf/glmb_slam.hpp"
 #include "backend/rbpf/labelled_map_filter.hpp"
+#include "backend/rbpf/trajectory.hpp"
 #include "core/error.hpp"
 #include "core/log_math.hpp"
 
 namespace glmbslam::backend {
 namespace {
 
-struct Weighted {
+/// A child: its log weight and a trajectory node whose parent tells its siblings.
+struct Child {
+  using Node = TrajectoryNode<double>;
   double log_weight = 0.0;
+  std::shared_ptr<const Node> trajectory;
 };
 
+/// Children of the given parents, with the given log weights.
+std::vector<Child> children(const std::vector<std::shared_ptr<const Child::Node>>& parents,
+                            const std::vector<double>& log_weights) {
+  std::vector<Child> next(parents.size());
+  for (std::size_t i = 0; i < next.size(); ++i) {
+    next[i].log_weight = log_weights[i];
+    next[i].trajectory = std::make_shared<const Child::Node>(0.0, 1, parents[i]);
+  }
+  return next;
+}
+
 TEST(SiblingNormalizer, ChildrenOfOneParentShareTheLogMeanExpOfTheirFactors) {
-  const int a = 0, b = 0;  // two parents, told apart by address
-  const std::vector<const void*> parents{&a, &a, &b, &a, &b, &b};
+  const auto a = std::make_shared<const Child::Node>(0.0, 0, nullptr);  // two parents
+  const auto b = std::make_shared<const Child::Node>(0.0, 0, nullptr);
   const std::vector<double> map_log{-3.0, -1.0, 5.0, -2.0, 7.0, kLogZero};
   const std::vector<double> other{0.1, 0.2, 0.3, 0.4, 0.5, 0.6};  // parent weight + log f − log q
-  std::vector<Weighted> next(parents.size());
-  for (std::size_t i = 0; i < next.size(); ++i) next[i].log_weight = other[i] + map_log[i];
-  next[5].log_weight = kLogZero;
+  std::vector<double> log_weights(map_log.size());
+  for (std::size_t i = 0; i < log_weights.size(); ++i) log_weights[i] = other[i] + map_log[i];
+  log_weights[5] = kLogZero;
+  std::vector<Child> next = children({a, a, b, a, b, b}, log_weights);
   std::vector<double> scratch;
-  pool_sibling_normalizers(parents, map_log, next, scratch);
+  pool_sibling_normalizers(map_log, next, scratch);
   const double pooled_a = std::log((std::exp(-3.0) + std::exp(-1.0) + std::exp(-2.0)) / 3.0);
   const double pooled_b = std::log((std::exp(5.0) + std::exp(7.0)) / 2.0);
   EXPECT_NEAR(next[0].log_weight, other[0] + pooled_a, 1e-12);
@@ -44,12 +61,12 @@ TEST(SiblingNormalizer, ChildrenOfOneParentShareTheLogMeanExpOfTheirFactors) {
 }
 
 TEST(SiblingNormalizer, AnOnlyChildKeepsItsOwnFactor) {
-  const int a = 0, b = 0;
-  const std::vector<const void*> parents{&a, &b};
+  const auto a = std::make_shared<const Child::Node>(0.0, 0, nullptr);
+  const auto b = std::make_shared<const Child::Node>(0.0, 0, nullptr);
   const std::vector<double> map_log{-4.0, 2.5};
-  std::vector<Weighted> next{{1.0 - 4.0}, {2.0 + 2.5}};
+  std::vector<Child> next = children({a, b}, {1.0 - 4.0, 2.0 + 2.5});
   std::vector<double> scratch;
-  pool_sibling_normalizers(parents, map_log, next, scratch);
+  pool_sibling_normalizers(map_log, next, scratch);
   EXPECT_DOUBLE_EQ(next[0].log_weight, -3.0);
   EXPECT_DOUBLE_EQ(next[1].log_weight, 4.5);
 }
