@@ -76,8 +76,9 @@ StereoConfig default_stereo_config();
 
 /// Camera-aware defaults: every key below that `root` does not set follows from the rectified calibration
 /// (f·b, image size), scaled so that the KITTI 00-02 rig (f·b = 386 px·m, 1241×376) keeps its measured
-/// values: the depth range (frontend.stereo.{min,max}_depth_m, measurement.{min,max}_depth: largest
-/// disparity 30 % of the width capped at 1 m, smallest disparity 4.8 px capped at 80 m), the clutter rate
+/// values: the depth range (frontend.stereo.min_depth_m and measurement.min_depth: largest disparity 30 % of
+/// the width capped at 1 m; measurement.max_depth: smallest disparity 4.8 px capped at 80 m; the frontend's
+/// frontend.stereo.max_depth_m stays 80 m, for the VO's rotation), the clutter rate
 /// (measurement.clutter_rate: 10 per 1241×376 image, by area), ORB features (frontend.orb.features: 2000 per
 /// 1241×376, by area) and the selection grid (pipeline.grid_columns / grid_rows: cells of about 124×94 px).
 void apply_camera_defaults(const YAML::Node& root, const StereoCalibration& calibration,

@@ -169,5 +169,34 @@ TEST(StereoConfig, ValuesOverrideDefaults) {
   EXPECT_EQ(c.pipeline.algorithm, "glmb1");
 }
 
+TEST(StereoConfig, CameraDefaultsFollowTheRigAndKeepTheVosStereoRange) {
+  // A 640×480 rig with f·b = 50.4 px: the backend's range shrinks to a 4.8 px disparity, the VO keeps 80 m
+  // (far points fix its rotation: docs/investigations.md, "Another rig: the VO's stereo range").
+  StereoCalibration rig;
+  rig.fx = rig.fy = 420.0;
+  rig.cx = 320.0;
+  rig.cy = 240.0;
+  rig.baseline = 0.12;
+  rig.width = 640;
+  rig.height = 480;
+  StereoConfig c = default_stereo_config();
+  apply_camera_defaults(YAML::Node(), rig, c);
+  EXPECT_DOUBLE_EQ(c.frontend.stereo.max_depth_m, 80.0);
+  const double fb = rig.fx * rig.baseline;
+  EXPECT_DOUBLE_EQ(c.measurement.max_depth, fb / 4.8);
+  EXPECT_DOUBLE_EQ(c.frontend.stereo.min_depth_m, fb / (0.3 * 640.0));
+  EXPECT_DOUBLE_EQ(c.measurement.min_depth, fb / (0.3 * 640.0));
+  EXPECT_EQ(c.frontend.orb.features, 1317);  // 2000 × 640·480 / (1241·376)
+  EXPECT_EQ(c.pipeline.grid_columns, 5);
+  EXPECT_EQ(c.pipeline.grid_rows, 5);
+
+  // keys the config sets win
+  StereoConfig d = default_stereo_config();
+  apply_camera_defaults(
+      YAML::Load("frontend:\n  stereo:\n    max_depth_m: 10.0\nmeasurement:\n  max_depth: 30.0\n"), rig, d);
+  EXPECT_DOUBLE_EQ(d.frontend.stereo.max_depth_m, default_stereo_config().frontend.stereo.max_depth_m);
+  EXPECT_DOUBLE_EQ(d.measurement.max_depth, default_stereo_config().measurement.max_depth);
+}
+
 }  // namespace
 }  // namespace glmbslam::app
