@@ -6,13 +6,14 @@
 // eval/report.hpp when ground truth exists, end-point drift, timing of each stage, status counts, the stereo
 // pair's row alignment `rectification`: app/pipeline/rectification_check_stage.hpp; the cameras' contrast
 // `stereo_photometry`: app/pipeline/stereo_photometry_stage.hpp) and
-// vo_features.png (features of both images and the stereo matches on a sample frame) and report.html (the
-// interactive report, app/run_report.hpp). A frame whose images
-// cannot be loaded (missing, corrupt, wrong size) is reported and replaced by the VO's constant-velocity
-// fallback, so the trajectory keeps one pose per frame; the command fails only if no frame at all can be
-// loaded. The poses are also streamed to vo_trajectory.streaming.txt (one line per frame, synced; removed
-// once the final files are written); SIGINT/SIGTERM stop at the next frame and write the outputs of the
-// frames done ("interrupted": true in metrics.json), then exit with code 130/143 (core/interrupt.hpp).
+// vo_features.png (features of both images and the stereo matches on a sample frame), report.html (the
+// interactive report, app/run_report.hpp) and ground_truth.txt (app/ground_truth_output.hpp). A frame whose
+// images cannot be loaded (missing, corrupt, wrong size) is reported and replaced by the VO's
+// constant-velocity fallback, so the trajectory keeps one pose per frame; the command fails only if no frame
+// at all can be loaded. The poses are also streamed to vo_trajectory.streaming.txt (one line per frame,
+// synced; removed once the final files are written); SIGINT/SIGTERM stop at the next frame and write the
+// outputs of the frames done ("interrupted": true in metrics.json), then exit with code 130/143
+// (core/interrupt.hpp).
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
@@ -28,6 +29,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "app/commands.hpp"
+#include "app/ground_truth_output.hpp"
 #include "app/pipeline/rectification_check_stage.hpp"
 #include "app/pipeline/stereo_photometry_stage.hpp"
 #include "app/pipeline/trajectory_stream_stage.hpp"
@@ -256,11 +258,11 @@ void run_vo(const VoArgs& a) {
   j["interrupted"] = interrupted;
   std::optional<PoseList> gt;
   std::optional<eval::TrajectoryEvaluation> evaluation;
+  std::vector<char> mask;  // frames with ground truth (empty: all)
   if (dataset->ground_truth()) {
     const PoseList& full = *dataset->ground_truth();
     gt = io::relative_to_first(PoseList(full.begin() + static_cast<std::ptrdiff_t>(first),
                                         full.begin() + static_cast<std::ptrdiff_t>(first + n)));
-    std::vector<char> mask;  // frames with ground truth (empty: all)
     if (!dataset->ground_truth_mask().empty()) {
       const auto& m = dataset->ground_truth_mask();
       mask.assign(m.begin() + static_cast<std::ptrdiff_t>(first),
@@ -279,6 +281,7 @@ void run_vo(const VoArgs& a) {
                  e.ate.se3_rmse_m, end_error, e.path_length_m,
                  e.path_length_m > 0 ? 100.0 * end_error / e.path_length_m : 0.0);
   }
+  write_ground_truth_file(out, gt ? &*gt : nullptr, mask);  // without: removes one of an earlier run
   nlohmann::json timing = {{"fps", static_cast<double>(n) / wall_s}, {"wall_s", wall_s}};
   for (const auto& [name, v] :
        std::vector<std::pair<std::string, const std::vector<double>*>>{{"load", &load_ms},

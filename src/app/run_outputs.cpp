@@ -7,6 +7,7 @@
 #include <spdlog/spdlog.h>
 #include <nlohmann/json.hpp>
 
+#include "app/ground_truth_output.hpp"
 #include "app/run_report.hpp"
 #include "core/atomic_file.hpp"
 #include "core/stopwatch.hpp"
@@ -96,6 +97,8 @@ void write_run_outputs(const std::string& out_dir, const RunRecord& r, bool plot
     io::write_pcd_map((dir / "map_refined.pcd").string(), r.refined_map);
   }
   write_text_file_atomically(dir / "config_used.yaml", [&](std::ostream& out) { out << r.effective_config; });
+  const bool ground_truth_written =
+      write_ground_truth_file(dir, r.ground_truth ? &*r.ground_truth : nullptr, r.ground_truth_mask);
 
   nlohmann::json j;
   j["dataset"] = r.dataset_name;
@@ -206,6 +209,7 @@ void write_run_outputs(const std::string& out_dir, const RunRecord& r, bool plot
     std::printf("  refined      %s, %s\n", (dir / "trajectory_refined.txt").string().c_str(),
                 (dir / "map_refined.pcd").string().c_str());
   }
+  if (ground_truth_written) std::printf("  ground truth %s\n", (dir / "ground_truth.txt").string().c_str());
 }
 
 }  // namespace glmbslam::app

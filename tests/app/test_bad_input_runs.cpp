@@ -80,6 +80,7 @@ TEST_F(BadInputRun, MissingGroundTruthRunsWithoutEvaluation) {
   const nlohmann::json m = metrics(out);
   EXPECT_FALSE(m.contains("slam"));
   EXPECT_FALSE(m.contains("vo"));
+  EXPECT_FALSE(fs::exists(out / "ground_truth.txt"));
 }
 
 TEST_F(BadInputRun, OutputFolderThatCannotBeCreatedIsAOneLineError) {
