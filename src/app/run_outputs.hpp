@@ -4,7 +4,7 @@
 //   vo_trajectory.txt   the frontend's visual odometry, accumulated (KITTI format)
 //   map.pcd             labelled landmarks of the final MAP estimate with existence probability
 //   trajectory_refined.txt, map_refined.pcd   with --refine ml: the RFS-ML refinement's trajectory and map
-//   ground_truth.txt    the reference the metrics compare with, when every frame has one (ground_truth_output.hpp)
+//   ground_truth.txt    the reference of the metrics, when every frame has one (ground_truth_output.hpp)
 //   report.html         the interactive report (eval/html_report.hpp; app/run_report.hpp): opens offline
 //   metrics.json        `slam` and `vo` evaluation blocks (when ground truth exists; `refined` too with
 //                       --refine ml), `timing`, `map`, `filter` (and `refinement`: its timings and counters)
