@@ -440,6 +440,8 @@ class GlmbUpdater {
         ws.new_index[ws.child_ids[k]] = 0;
     }
     posterior.tracks.clear();
+    posterior.tracks.reserve(static_cast<std::size_t>(
+        std::count_if(ws.new_index.begin(), ws.new_index.end(), [](int v) { return v >= 0; })));
     for (int id = 0; id < n_ids; ++id) {
       if (ws.new_index[id] < 0) continue;
       ws.new_index[id] = static_cast<int>(posterior.tracks.size());
