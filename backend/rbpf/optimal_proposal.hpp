@@ -11,10 +11,9 @@
 //     detected r_B p_D N(z_j; ẑ, S')/κ(z_j); a birth that gates with no measurement only multiplies every W
 //     by 1 − r_B p_D (marginalised as in the update). At step 1 after GlmbSlam::initial_scan the map is
 //     empty and these rows are what ties x_1 to the known x_0 (without them x_1 is a draw from the prior).
-//  4. Per (h, θ): the FastSLAM-2.0 Gaussian: the KF update of (x̄, P̄) with every detection of θ (the
-//     partitioned updates summed in information form, fastslam_gaussian), relinearised up to ipl_iterations
-//     times (paper 003 Algorithm 1, first-order), stopping when the KL divergence between successive iterates
-//     is below ipl_tolerance.
+//  4. Per (h, θ): the FastSLAM-2.0 Gaussian by partitioned KF updates of (x̄, P̄) with every detection of θ,
+//     relinearised up to ipl_iterations times (paper 003 Algorithm 1, first-order), stopping when the KL
+//     divergence between successive iterates is below ipl_tolerance.
 //  5. Components normalised; moment-matched to one Gaussian (what paper 000 does), or kept as a mixture.
 // log Σ W (over every association hypothesis found in round 0) is Eq. 33's marginal, used by the "paper"
 // weighting. η includes the update's descriptor likelihood ratio when the model has one (appearance.hpp), so
@@ -39,7 +38,6 @@
 // A wide prior thus widens the first search, and the rounds restore the joint association the map implies.
 #include <algorithm>
 #include <cmath>
-#include <cstdint>
 #include <string>
 #include <utility>
 #include <vector>
@@ -158,11 +156,6 @@ class OptimalProposal {
   }
 
  private:
-  struct InformationTerm {
-    Covariance J;
-    Tangent g;
-    EIGEN_MAKE_ALIGNED_OPERATOR_NEW
-  };
   struct Workspace {
     std::vector<char> active;
     std::vector<int> source_of_track, source_begin, entry_column, row_track, row_source, samples, cand_begin,
@@ -175,14 +168,6 @@ class OptimalProposal {
     int best_cand = -1;  ///< the candidate of the first component (make_components)
     std::vector<std::pair<int, int>> previous_best, current_best;  ///< the best candidate's pairs, sorted
     std::vector<Component, Eigen::aligned_allocator<Component>> next_components;
-    /// The first linearisation (at x_lin) is common to every component of a make_components call, so each
-    /// distinct (landmark, measurement) pair's information term is computed once: pair_slot[k] is the slot of
-    /// cand_pairs[k], terms[slot] its (AᵀΩ⁻¹A, AᵀΩ⁻¹(r − Aδ₀)), term_state 0 = not yet, 1 = valid, 2 =
-    /// skipped.
-    std::vector<int> pair_slot;
-    std::vector<std::pair<std::uint64_t, int>> pair_keys;
-    std::vector<InformationTerm, Eigen::aligned_allocator<InformationTerm>> terms;
-    std::vector<char> term_state;
   };
 
   /// Step 3 at the pose Gaussian N(x_lin, P_lin) (the prediction in round 0, the best component of the
@@ -290,7 +275,6 @@ class OptimalProposal {
     ws.best_cand = keep > 0 ? ws.order[0] : -1;
     double log_total = kLogZero;
     for (int k = 0; k < keep; ++k) log_total = log_add(log_total, ws.cand_log_w[ws.order[k]]);
-    assign_pair_slots(ws, keep);
     for (int k = 0; k < keep; ++k) {
       const int c = ws.order[k];
       Component comp;
@@ -299,30 +283,6 @@ class OptimalProposal {
                         comp.cov);
       components.push_back(comp);
     }
-  }
-
-  /// ws.pair_slot for the pairs of the `keep` best candidates (ws.order): equal pairs share a slot.
-  static void assign_pair_slots(Workspace& ws, int keep) {
-    ws.pair_keys.clear();
-    ws.pair_slot.assign(ws.cand_pairs.size(), -1);
-    for (int k = 0; k < keep; ++k) {
-      const int c = ws.order[k];
-      for (int e = ws.cand_begin[c]; e < ws.cand_begin[c + 1]; ++e) {
-        const auto& pr = ws.cand_pairs[e];
-        const std::uint64_t key = (static_cast<std::uint64_t>(static_cast<std::uint32_t>(pr.first)) << 32) |
-                                  static_cast<std::uint32_t>(pr.second);
-        ws.pair_keys.emplace_back(key, e);
-      }
-    }
-    std::sort(ws.pair_keys.begin(), ws.pair_keys.end());
-    int slots = 0;
-    for (std::size_t i = 0; i < ws.pair_keys.size(); ++i) {
-      if (i > 0 && ws.pair_keys[i].first != ws.pair_keys[i - 1].first) ++slots;
-      ws.pair_slot[ws.pair_keys[i].second] = slots;
-    }
-    if (!ws.pair_keys.empty()) ++slots;
-    ws.terms.resize(static_cast<std::size_t>(slots));
-    ws.term_state.assign(static_cast<std::size_t>(slots), 0);
   }
 
   /// The detections of the best candidate, sorted.
@@ -442,56 +402,40 @@ class OptimalProposal {
     return 0.5 * ((l1.solve(S0)).trace() - kDim + d.dot(l1.solve(d)) + log_det1 - log_det0);
   }
 
-  /// The FastSLAM-2.0 Gaussian of one hypothesis: the Kalman update of the prior N(x̄, P̄) with its detections
-  /// [begin, end), relinearised (paper 003 Algorithm 1). Each linearisation at x_lin is solved in information
-  /// form in the tangent space at x_lin: with δ₀ = x̄ ⊖ x_lin, r_k the residual at x_lin, A_k the pose
-  /// Jacobian and Ω_k = H_m P_m H_mᵀ + R,
-  ///   J = Σ A_kᵀ Ω_k⁻¹ A_k,   g = Σ A_kᵀ Ω_k⁻¹ (r_k − A_k δ₀),
-  ///   Σ = (P̄⁻¹ + J)⁻¹ = L (I + Lᵀ J L)⁻¹ Lᵀ (P̄ = L Lᵀ; I + LᵀJL is SPD with eigenvalues ≥ 1),
-  ///   μ = x_lin ⊕ (δ₀ + Σ g),
-  /// the partitioned, sequential KF updates of paper 000 Eq. 31–32 summed at once (equal for a linear model),
-  /// without P̄⁻¹ and with one 6×6 factorisation per linearisation instead of one update of (μ, Σ) per
-  /// detection.
+  /// Partitioned, relinearised KF update of (x̄, P̄) with the detections [begin, end) of one hypothesis.
   void fastslam_gaussian(const GlmbMap<Meas>& map, const MeasurementSet& Z, const State& x_pred,
                          const Covariance& P_pred, const State& x_lin, int begin, int end, Workspace& ws,
                          State& mean_out, Covariance& cov_out) const {
-    mean_out = x_pred;
-    cov_out = P_pred;
-    if (begin == end) return;
-    const Eigen::LLT<Covariance> prior(P_pred);
-    if (prior.info() != Eigen::Success) return;
-    const Covariance L = prior.matrixL();
     State lin = x_lin;
     Covariance lin_cov = P_pred;
-    InformationTerm term;
+    if (begin == end) {
+      mean_out = x_pred;
+      cov_out = P_pred;
+      return;
+    }
     for (int l = 0; l < config_.ipl_iterations; ++l) {
-      const Tangent d0 = Motion::local(x_pred, lin);
-      Covariance J = Covariance::Zero();
-      Tangent g = Tangent::Zero();
+      State mu = x_pred;
+      Covariance Sig = P_pred;
       for (int k = begin; k < end; ++k) {
-        if (l > 0) {
-          if (information_term(map, Z, lin, d0, ws.cand_pairs[k], term)) {
-            J += term.J;
-            g += term.g;
-          }
-          continue;
-        }
-        const int slot = ws.pair_slot[k];  // the first linearisation: shared by the components
-        char& state = ws.term_state[slot];
-        if (state == 0) state = information_term(map, Z, lin, d0, ws.cand_pairs[k], ws.terms[slot]) ? 1 : 2;
-        if (state == 1) {
-          J += ws.terms[slot].J;
-          g += ws.terms[slot].g;
-        }
+        const int id = ws.cand_pairs[k].first;
+        const int n_tracks = static_cast<int>(map.tracks.size());
+        const auto& mean = id < n_tracks ? map.tracks[id].mean : map.births[id - n_tracks].mean;
+        const auto& cov = id < n_tracks ? map.tracks[id].cov : map.births[id - n_tracks].cov;
+        const Measurement& z = Z[ws.cand_pairs[k].second];
+        typename Meas::PoseJacobian A;
+        typename Meas::LandmarkJacobian Hm;
+        const Measurement zhat = model_.linearize(lin, mean, &A, &Hm);
+        const typename Meas::MeasurementCovariance Omega = Hm * cov * Hm.transpose() + model_.noise();
+        const Measurement nu = model_.residual(z, zhat) - A * Motion::local(mu, lin);
+        const typename Meas::MeasurementCovariance S = A * Sig * A.transpose() + Omega;
+        const Eigen::LLT<typename Meas::MeasurementCovariance> llt(S);
+        if (llt.info() != Eigen::Success) continue;
+        const Eigen::Matrix<double, kDim, Meas::kMeasDim> K = llt_solve(llt, A * Sig).transpose();
+        mu = Motion::retract(mu, K * nu);
+        Sig -= K * S * K.transpose();
+        symmetrize(Sig);
       }
-      Covariance M = Covariance::Identity();
-      M.noalias() += L.transpose() * J * L;
-      const Eigen::LLT<Covariance> info(M);
-      if (info.info() != Eigen::Success) break;                  // keep the previous iterate
-      const Covariance W = info.matrixL().solve(L.transpose());  // Σ = WᵀW
-      Covariance Sig = W.transpose() * W;
-      symmetrize(Sig);
-      const State mu = Motion::retract(lin, d0 + Sig * g);
+      if (Eigen::LLT<Covariance>(Sig).info() != Eigen::Success) break;  // keep the previous iterate
       const bool converged = l > 0 && kl_divergence(lin, lin_cov, mu, Sig) < config_.ipl_tolerance;
       lin = mu;
       lin_cov = Sig;
@@ -499,26 +443,6 @@ class OptimalProposal {
     }
     mean_out = lin;
     cov_out = lin_cov;
-  }
-
-  /// One detection's terms at the linearisation point `lin` (δ₀ = x̄ ⊖ lin): whitened by Ω = L_Ω L_Ωᵀ,
-  /// B = L_Ω⁻¹ A and e = L_Ω⁻¹ (r − A δ₀), so J = BᵀB = AᵀΩ⁻¹A and g = Bᵀe. False if Ω is not SPD.
-  bool information_term(const GlmbMap<Meas>& map, const MeasurementSet& Z, const State& lin,
-                        const Tangent& d0, const std::pair<int, int>& pair, InformationTerm& out) const {
-    const int id = pair.first;
-    const int n_tracks = static_cast<int>(map.tracks.size());
-    const auto& mean = id < n_tracks ? map.tracks[id].mean : map.births[id - n_tracks].mean;
-    const auto& cov = id < n_tracks ? map.tracks[id].cov : map.births[id - n_tracks].cov;
-    typename Meas::PoseJacobian A;
-    typename Meas::LandmarkJacobian Hm;
-    const Measurement zhat = model_.linearize(lin, mean, &A, &Hm);
-    const Eigen::LLT<typename Meas::MeasurementCovariance> omega(Hm * cov * Hm.transpose() + model_.noise());
-    if (omega.info() != Eigen::Success) return false;
-    const typename Meas::PoseJacobian B = omega.matrixL().solve(A);
-    const Measurement e = omega.matrixL().solve(model_.residual(Z[pair.second], zhat) - A * d0);
-    out.J.noalias() = B.transpose() * B;
-    out.g.noalias() = B.transpose() * e;
-    return true;
   }
 
   Motion motion_;
