@@ -27,6 +27,7 @@
 #include <Eigen/Core>
 
 #include "backend/glmb/frozen_tracks.hpp"
+#include "backend/glmb/gate_bound.hpp"
 #include "backend/glmb/gibbs_sampler.hpp"
 #include "backend/glmb/glmb_config.hpp"
 #include "backend/glmb/glmb_map.hpp"
@@ -48,9 +49,7 @@ struct Innovation {
   Eigen::Matrix<double, Meas::kLandmarkDim, Meas::kMeasDim> K;  ///< P H_mᵀ S⁻¹
   typename Meas::LandmarkCovariance P_updated;                  ///< Joseph form (I−KH)P(I−KH)ᵀ + KRKᵀ
   double log_norm = 0.0;                                        ///< −½(d log 2π + log|S|)
-  /// diag(S): νᵀS⁻¹ν ≥ ν_i² / S_ii for any SPD S, so a residual with ν_i² > gate · S_ii fails the gate
-  /// without the triangular solve (update() widens the bound by 1e-6 to cover the solve's rounding)
-  typename Meas::Measurement diag_S;
+  typename Meas::Measurement diag_S;  ///< diag(S), for the gate bound (gate_bound.hpp)
   bool valid = false;
 
   void compute(const Meas& model, const typename Meas::Pose& x, const typename Meas::Landmark& mean,
@@ -76,7 +75,7 @@ struct Innovation {
               double gate, typename Meas::Landmark* mean_out, double* log_likelihood) const {
     if (!valid) return false;
     const typename Meas::Measurement nu = model.residual(z, zhat);
-    if ((nu.array().square() > (gate * (1.0 + 1e-6)) * diag_S.array()).any()) return false;
+    if (fails_gate_on_diagonal(nu, diag_S, gate)) return false;
     const double d2 = S_llt.matrixL().solve(nu).squaredNorm();
     if (!(d2 <= gate)) return false;
     *mean_out = mean + K * nu;

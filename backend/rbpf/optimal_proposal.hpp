@@ -45,6 +45,7 @@
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
 
+#include "backend/glmb/gate_bound.hpp"
 #include "backend/glmb/gibbs_sampler.hpp"
 #include "backend/glmb/glmb_map.hpp"
 #include "backend/glmb/llt_solve.hpp"
@@ -369,13 +370,11 @@ class OptimalProposal {
     for (int i = 0; i < Meas::kMeasDim; ++i) log_det += std::log(llt.matrixLLT()(i, i));
     const double log_norm = -0.5 * Meas::kMeasDim * std::log(2.0 * M_PI) - log_det;
     const double base = log_exist + std::log(pd);
-    // νᵀS⁻¹ν ≥ ν_i²/S_ii for an SPD S: most pairs fail the gate on that bound, without the triangular solve
-    // (widened by 1e-6 for the solve's rounding, as Innovation::update does)
-    const Measurement gate_diag = (gate * (1.0 + 1e-6)) * S.diagonal();
+    const Measurement diag_S = S.diagonal();
     bool gated = false;
     for (std::size_t j = 0; j < Z.size(); ++j) {
       const Measurement nu = model_.residual(Z[j], zhat);
-      if ((nu.array().square() > gate_diag.array()).any()) continue;
+      if (fails_gate_on_diagonal(nu, diag_S, gate)) continue;  // most pairs: no triangular solve
       const double d2 = llt.matrixL().solve(nu).squaredNorm();
       if (!(d2 <= gate)) continue;
       double log_eta = base + log_norm - 0.5 * d2 - model_.log_clutter_intensity(Z[j]);
