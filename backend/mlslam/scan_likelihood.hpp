@@ -69,6 +69,86 @@ class BlockPartition {
   std::vector<std::size_t> parent_;
 };
 
+/// A scan's blocks that hold a gated pair, laid out flat (no allocation per landmark): per block its
+/// landmarks and measurements (ascending) and pairs, and each node's position in its block. A block's root is
+/// its smallest node, always a landmark.
+struct ScanBlocks {
+  template <class T>
+  struct Span {
+    const T* first;
+    const T* last;
+    std::size_t size() const { return static_cast<std::size_t>(last - first); }
+    const T& operator[](std::size_t k) const { return first[k]; }
+    const T* begin() const { return first; }
+    const T* end() const { return last; }
+  };
+
+  ScanBlocks(BlockPartition& blocks, const std::vector<GatedPair>& gated, std::size_t P, std::size_t J)
+      : block_of_root(P, -1), local(P + J, -1), pair_items_(gated.size()) {
+    int n = 0;
+    for (const auto& g : gated) {
+      const std::size_t root = blocks.find(static_cast<std::size_t>(g.landmark));
+      if (block_of_root[root] < 0) block_of_root[root] = n++;
+    }
+    const auto B = static_cast<std::size_t>(n);
+    std::vector<int> node_block(P + J, -1);
+    row_start_.assign(B + 1, 0);
+    col_start_.assign(B + 1, 0);
+    pair_start_.assign(B + 1, 0);
+    for (std::size_t v = 0; v < P + J; ++v) {
+      const std::size_t root = blocks.find(v);
+      if (root >= P || block_of_root[root] < 0) continue;
+      node_block[v] = block_of_root[root];
+      ++(v < P ? row_start_ : col_start_)[static_cast<std::size_t>(node_block[v]) + 1];
+    }
+    for (const auto& g : gated) ++pair_start_[block_of(node_block, g) + 1];
+    for (std::size_t b = 0; b < B; ++b) {
+      row_start_[b + 1] += row_start_[b];
+      col_start_[b + 1] += col_start_[b];
+      pair_start_[b + 1] += pair_start_[b];
+    }
+    row_items_.resize(static_cast<std::size_t>(row_start_[B]));
+    col_items_.resize(static_cast<std::size_t>(col_start_[B]));
+    std::vector<int> next_row(row_start_.begin(), row_start_.end() - 1);
+    std::vector<int> next_col(col_start_.begin(), col_start_.end() - 1);
+    for (std::size_t v = 0; v < P + J; ++v) {
+      if (node_block[v] < 0) continue;
+      const auto b = static_cast<std::size_t>(node_block[v]);
+      if (v < P) {
+        local[v] = next_row[b] - row_start_[b];
+        row_items_[static_cast<std::size_t>(next_row[b]++)] = static_cast<int>(v);
+      } else {
+        local[v] = next_col[b] - col_start_[b];
+        col_items_[static_cast<std::size_t>(next_col[b]++)] = static_cast<int>(v - P);
+      }
+    }
+    std::vector<int> next_pair(pair_start_.begin(), pair_start_.end() - 1);
+    for (const auto& g : gated)
+      pair_items_[static_cast<std::size_t>(next_pair[block_of(node_block, g)]++)] = &g;
+  }
+
+  Span<int> rows(int b) const { return span(row_items_, row_start_, b); }
+  Span<int> cols(int b) const { return span(col_items_, col_start_, b); }
+  Span<const GatedPair*> pairs(int b) const { return span(pair_items_, pair_start_, b); }
+
+  std::vector<int>
+      block_of_root;       ///< per landmark: its block's id if it is the root of one with a pair, else −1
+  std::vector<int> local;  ///< position of a landmark in its block's rows, of a measurement in its cols
+
+ private:
+  static std::size_t block_of(const std::vector<int>& node_block, const GatedPair& g) {
+    return static_cast<std::size_t>(node_block[static_cast<std::size_t>(g.landmark)]);
+  }
+  template <class T>
+  static Span<T> span(const std::vector<T>& items, const std::vector<int>& start, int b) {
+    const auto k = static_cast<std::size_t>(b);
+    return {items.data() + start[k], items.data() + start[k + 1]};
+  }
+
+  std::vector<int> row_start_, col_start_, pair_start_, row_items_, col_items_;
+  std::vector<const GatedPair*> pair_items_;
+};
+
 /// log p(Z | x, M) of Eq. 7 and the β of the gated pairs, for the candidate landmarks `M` (those possibly in
 /// view; landmarks with p_D = 0 contribute nothing and may be left out). `p_D(model, x, m, ẑ)` is the
 /// detection probability (SmoothDetection2D, SmoothStereoDetection).
@@ -123,41 +203,30 @@ ScanAssociation evaluate_scan(const Model& model, const Detection& p_D, const ty
   } else {
     for (std::size_t p = 0; p < P; ++p) out.p_detect[p] = p_D(model, x, M[p], model.predict(x, M[p]));
   }
-  // landmarks: log(1 − p_D) when alone; blocks with a measurement go through Murty
-  std::vector<std::vector<int>> rows(P + J), cols(P + J);
-  std::vector<int> local(P + J, -1);  // position of a landmark in its block's rows, of a measurement in cols
-  for (std::size_t p = 0; p < P; ++p) {
-    auto& r = rows[blocks.find(p)];
-    local[p] = static_cast<int>(r.size());
-    r.push_back(static_cast<int>(p));
-  }
-  for (std::size_t j = 0; j < J; ++j) {
-    auto& c = cols[blocks.find(P + j)];
-    local[P + j] = static_cast<int>(c.size());
-    c.push_back(static_cast<int>(j));
-  }
-  std::vector<std::vector<const GatedPair*>> block_pairs(P + J);
-  for (const auto& g : pairs) block_pairs[blocks.find(static_cast<std::size_t>(g.landmark))].push_back(&g);
+  // landmarks: log(1 − p_D) when alone; blocks with a measurement go through Murty, summed in the order of
+  // their roots
+  const ScanBlocks layout(blocks, pairs, P, J);
   MurtyOptions murty;
   murty.max_solutions = static_cast<std::size_t>(options.max_assignments);
   murty.max_cost_gap = options.assignment_log_gap;
   double total = constant;
-  for (std::size_t b = 0; b < P + J; ++b) {
-    const auto& Rb = rows[b];
-    const auto& Cb = cols[b];
-    if (Rb.empty()) continue;  // clutter only: already in the constant
-    if (Cb.empty()) {
-      for (int p : Rb) total += std::log1p(-out.p_detect[static_cast<std::size_t>(p)]);
+  for (std::size_t root = 0; root < P; ++root) {
+    if (blocks.find(root) != root) continue;
+    const int b = layout.block_of_root[root];
+    if (b < 0) {  // a landmark alone: missed
+      total += std::log1p(-out.p_detect[root]);
       continue;
     }
+    const auto Rb = layout.rows(b);
+    const auto Cb = layout.cols(b);
     Eigen::MatrixXd log_detect(Rb.size(), Cb.size());
     Eigen::VectorXd log_miss(Rb.size());
     for (std::size_t a = 0; a < Rb.size(); ++a)
       log_miss(static_cast<Eigen::Index>(a)) = std::log1p(-out.p_detect[static_cast<std::size_t>(Rb[a])]);
     log_detect.setConstant(kLogZero);
-    for (const GatedPair* g : block_pairs[b])
-      log_detect(local[static_cast<std::size_t>(g->landmark)],
-                 local[P + static_cast<std::size_t>(g->measurement)]) = g->gain;
+    for (const GatedPair* g : layout.pairs(b))
+      log_detect(layout.local[static_cast<std::size_t>(g->landmark)],
+                 layout.local[P + static_cast<std::size_t>(g->measurement)]) = g->gain;
     const auto hyps = rank_associations(log_detect, log_miss, murty);
     std::vector<double> lw;
     lw.reserve(hyps.size());
