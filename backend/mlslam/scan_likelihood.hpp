@@ -149,6 +149,26 @@ struct ScanBlocks {
   std::vector<const GatedPair*> pair_items_;
 };
 
+/// A block of one landmark and one measurement: log of Σ_θ over its two assignments (detected with `gain`,
+/// or missed with `log_miss` and the measurement clutter), as rank_associations and log_sum_exp would give it
+/// to the last bit (Murty's order, its gap and count limits, the sum from the best term), and the pair's β
+/// handed to `beta` when options.marginals.
+template <class OnBeta>
+double one_pair_block(double gain, double log_miss, const MurtyOptions& murty,
+                      const ScanLikelihoodOptions& options, OnBeta&& beta) {
+  const bool detect_best = !(log_miss > gain);
+  const double best = detect_best ? gain : log_miss, other = detect_best ? log_miss : gain;
+  // Murty ranks by cost −log w; the second assignment is kept if feasible, within the gap and allowed
+  const bool both =
+      murty.max_solutions >= 2 && other != kLogZero && !((-other) - (-best) > murty.max_cost_gap);
+  const double block_ll = both ? best + std::log(std::exp(best - best) + std::exp(other - best)) : best;
+  if (options.marginals && (detect_best || both)) {
+    const double b = std::exp(gain - block_ll);
+    if (b > 0.0) beta(b);
+  }
+  return block_ll;
+}
+
 /// log p(Z | x, M) of Eq. 7 and the β of the gated pairs, for the candidate landmarks `M` (those possibly in
 /// view; landmarks with p_D = 0 contribute nothing and may be left out). `p_D(model, x, m, ẑ)` is the
 /// detection probability (SmoothDetection2D, SmoothStereoDetection).
@@ -219,6 +239,14 @@ ScanAssociation evaluate_scan(const Model& model, const Detection& p_D, const ty
     }
     const auto Rb = layout.rows(b);
     const auto Cb = layout.cols(b);
+    if (Rb.size() == 1 && Cb.size() == 1) {  // one landmark, one measurement: the two assignments directly
+      const double gain = (*layout.pairs(b).begin())->gain;
+      total += one_pair_block(gain, std::log1p(-out.p_detect[static_cast<std::size_t>(Rb[0])]), murty,
+                              options, [&](double beta) {
+                                out.betas.push_back({Rb[0], Cb[0], beta});
+                              });
+      continue;
+    }
     Eigen::MatrixXd log_detect(Rb.size(), Cb.size());
     Eigen::VectorXd log_miss(Rb.size());
     for (std::size_t a = 0; a < Rb.size(); ++a)

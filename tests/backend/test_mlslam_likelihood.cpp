@@ -333,5 +333,46 @@ TEST(MlSlamLikelihood, OneDominantAssociationEqualsTheVectorCost) {
   EXPECT_NEAR(l1 - l0, v1 - v0, 1e-6 * std::abs(l1 - l0));
 }
 
+/// A block of one landmark and one measurement skips Murty; it must give what rank_associations and
+/// log_sum_exp give, bit for bit, including ties, a certain detection (log_miss = −∞), the gap and one
+/// assignment only.
+TEST(MlSlamLikelihood, OnePairBlockEqualsMurtyBitForBit) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-30.0, 10.0);
+  std::vector<std::pair<double, double>> cases{{-2.0, -2.0}, {1.0, kLogZero},  {-25.0, 0.0},
+                                               {0.0, -25.0}, {3.0, 3.0 - 9.2}, {-1.0, -1.0 - 9.2 - 1e-12}};
+  for (int k = 0; k < 2000; ++k) cases.emplace_back(u(rng), k % 50 == 0 ? kLogZero : u(rng));
+  for (const int max_assignments : {1, 2, 50}) {
+    for (const double gap : {0.0, 9.2, 1e9}) {
+      ScanLikelihoodOptions o;
+      o.max_assignments = max_assignments;
+      o.assignment_log_gap = gap;
+      MurtyOptions murty;
+      murty.max_solutions = static_cast<std::size_t>(max_assignments);
+      murty.max_cost_gap = gap;
+      for (const auto& [gain, log_miss] : cases) {
+        Eigen::MatrixXd log_detect(1, 1);
+        log_detect(0, 0) = gain;
+        Eigen::VectorXd miss(1);
+        miss(0) = log_miss;
+        const auto hyps = rank_associations(log_detect, miss, murty);
+        std::vector<double> lw;
+        for (const auto& h : hyps) lw.push_back(h.log_weight);
+        const double expected = log_sum_exp(lw);
+        double expected_beta = 0.0;
+        for (const auto& h : hyps)
+          if (h.measurement_of[0] >= 0) expected_beta += std::exp(h.log_weight - expected);
+        std::vector<double> betas;
+        const double got = one_pair_block(gain, log_miss, murty, o, [&](double b) { betas.push_back(b); });
+        EXPECT_EQ(got, expected) << gain << " " << log_miss;
+        ASSERT_EQ(betas.size(), expected_beta > 0.0 ? 1U : 0U) << gain << " " << log_miss;
+        if (!betas.empty()) {
+          EXPECT_EQ(betas[0], expected_beta) << gain << " " << log_miss;
+        }
+      }
+    }
+  }
+}
+
 }  // namespace
 }  // namespace glmbslam::backend
