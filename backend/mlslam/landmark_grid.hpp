@@ -35,16 +35,31 @@ class LandmarkGrid {
     return in_box(centre - Point::Constant(radius), centre + Point::Constant(radius));
   }
 
+  /// near() less the landmarks j with keep(j) false.
+  template <class Keep>
+  std::vector<int> near_if(const Point& centre, double radius, Keep&& keep) const {
+    return in_box_if(centre - Point::Constant(radius), centre + Point::Constant(radius), keep);
+  }
+
   /// Indices of the landmarks whose cell meets the axis-aligned box [lo, hi], ascending (a superset of those
   /// inside it).
   std::vector<int> in_box(const Point& lo_corner, const Point& hi_corner) const {
+    return in_box_if(lo_corner, hi_corner, [](int) { return true; });
+  }
+
+  /// in_box() less the landmarks j with keep(j) false (tested before the sort, which then has fewer to
+  /// order).
+  template <class Keep>
+  std::vector<int> in_box_if(const Point& lo_corner, const Point& hi_corner, Keep&& keep) const {
     std::vector<int> out;
     const Eigen::Matrix<long long, D, 1> lo = coords(lo_corner);
     const Eigen::Matrix<long long, D, 1> hi = coords(hi_corner);
     Eigen::Matrix<long long, D, 1> c = lo;
     while (true) {
       const auto it = cells_.find(key(c));
-      if (it != cells_.end()) out.insert(out.end(), it->second.begin(), it->second.end());
+      if (it != cells_.end())
+        for (int j : it->second)
+          if (keep(j)) out.push_back(j);
       int d = 0;
       for (; d < D; ++d) {
         if (c(d) < hi(d)) {

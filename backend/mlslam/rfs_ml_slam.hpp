@@ -301,11 +301,8 @@ class RfsMlSlam {
 
   /// The landmarks (map indices, ascending) that p_D may see from x.
   std::vector<int> candidates_of(const Pose& x, const LandmarkList& map, const Grid& grid) const {
-    std::vector<int> c = grid.near(Model::position(x), p_D_.query_radius());
-    c.erase(std::remove_if(c.begin(), c.end(),
-                           [&](int j) { return !maybe_in_view(x, map[static_cast<std::size_t>(j)]); }),
-            c.end());
-    return c;
+    return grid.near_if(Model::position(x), p_D_.query_radius(),
+                        [&](int j) { return maybe_in_view(x, map[static_cast<std::size_t>(j)]); });
   }
 
   LandmarkList gather(const LandmarkList& map, const std::vector<int>& ids) const {

@@ -106,13 +106,9 @@ class StereoBatchMlSlam {
     parallel_for(K, [&](std::size_t i) {
       ScanState& ss = s.scans[i];
       const auto box = p_D_.view_box(model_, s.poses[i]);
-      ss.candidates = grid.in_box(box.first, box.second);
-      ss.candidates.erase(std::remove_if(ss.candidates.begin(), ss.candidates.end(),
-                                         [&](int j) {
-                                           return !p_D_.maybe_in_view(model_, s.poses[i],
-                                                                      s.map[static_cast<std::size_t>(j)]);
-                                         }),
-                          ss.candidates.end());
+      ss.candidates = grid.in_box_if(box.first, box.second, [&](int j) {
+        return p_D_.maybe_in_view(model_, s.poses[i], s.map[static_cast<std::size_t>(j)]);
+      });
       LandmarkList M;
       M.reserve(ss.candidates.size());
       for (int j : ss.candidates) M.push_back(s.map[static_cast<std::size_t>(j)]);
