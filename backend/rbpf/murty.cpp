@@ -25,9 +25,9 @@ struct NodeOrder {
   bool operator()(const Node* a, const Node* b) const { return a->solution.cost > b->solution.cost; }
 };
 
-/// Solves a node's matrix; false if infeasible.
-bool solve(Node& node) {
-  const AssignmentResult r = solve_linear_assignment(node.cost);
+/// Solves a node's matrix with `solver` (one per ranking: its buffers are reused); false if infeasible.
+bool solve(Node& node, LinearAssignmentSolver& solver) {
+  const AssignmentResult& r = solver.solve(node.cost);
   if (!r.feasible || !std::isfinite(r.cost)) return false;
   for (int c : r.row_to_col) {
     if (c < 0) return false;
@@ -53,12 +53,13 @@ std::vector<RankedAssignment> murty_k_best(const Eigen::MatrixXd& cost, const Mu
     return out;
   }
 
+  LinearAssignmentSolver solver;
   std::vector<std::unique_ptr<Node>> storage;
   std::priority_queue<Node*, std::vector<Node*>, NodeOrder> queue;
   auto root = std::make_unique<Node>();
   root->cost = cost;
   root->forced.assign(static_cast<std::size_t>(n), -1);
-  if (!solve(*root)) return out;
+  if (!solve(*root, solver)) return out;
   queue.push(root.get());
   storage.push_back(std::move(root));
 
@@ -82,7 +83,7 @@ std::vector<RankedAssignment> murty_k_best(const Eigen::MatrixXd& cost, const Mu
       child->cost = partial;
       child->cost(i, j) = kInf;
       child->forced = forced;
-      if (solve(*child)) {
+      if (solve(*child, solver)) {
         queue.push(child.get());
         storage.push_back(std::move(child));
       }
