@@ -84,7 +84,7 @@ struct ScanBlocks {
   };
 
   ScanBlocks(BlockPartition& blocks, const std::vector<GatedPair>& gated, std::size_t P, std::size_t J)
-      : block_of_root(P, -1), local(P + J, -1), pair_items_(gated.size()) {
+      : block_of_root(P, -1), local(P + J, -1) {
     int n = 0;
     for (const auto& g : gated) {
       const std::size_t root = blocks.find(static_cast<std::size_t>(g.landmark));
@@ -92,39 +92,21 @@ struct ScanBlocks {
     }
     const auto B = static_cast<std::size_t>(n);
     std::vector<int> node_block(P + J, -1);
-    row_start_.assign(B + 1, 0);
-    col_start_.assign(B + 1, 0);
-    pair_start_.assign(B + 1, 0);
     for (std::size_t v = 0; v < P + J; ++v) {
       const std::size_t root = blocks.find(v);
-      if (root >= P || block_of_root[root] < 0) continue;
-      node_block[v] = block_of_root[root];
-      ++(v < P ? row_start_ : col_start_)[static_cast<std::size_t>(node_block[v]) + 1];
+      if (root < P) node_block[v] = block_of_root[root];
     }
-    for (const auto& g : gated) ++pair_start_[block_of(node_block, g) + 1];
-    for (std::size_t b = 0; b < B; ++b) {
-      row_start_[b + 1] += row_start_[b];
-      col_start_[b + 1] += col_start_[b];
-      pair_start_[b + 1] += pair_start_[b];
-    }
-    row_items_.resize(static_cast<std::size_t>(row_start_[B]));
-    col_items_.resize(static_cast<std::size_t>(col_start_[B]));
-    std::vector<int> next_row(row_start_.begin(), row_start_.end() - 1);
-    std::vector<int> next_col(col_start_.begin(), col_start_.end() - 1);
-    for (std::size_t v = 0; v < P + J; ++v) {
-      if (node_block[v] < 0) continue;
-      const auto b = static_cast<std::size_t>(node_block[v]);
-      if (v < P) {
-        local[v] = next_row[b] - row_start_[b];
-        row_items_[static_cast<std::size_t>(next_row[b]++)] = static_cast<int>(v);
-      } else {
-        local[v] = next_col[b] - col_start_[b];
-        col_items_[static_cast<std::size_t>(next_col[b]++)] = static_cast<int>(v - P);
-      }
-    }
-    std::vector<int> next_pair(pair_start_.begin(), pair_start_.end() - 1);
-    for (const auto& g : gated)
-      pair_items_[static_cast<std::size_t>(next_pair[block_of(node_block, g)]++)] = &g;
+    counting_sort(
+        B, P, [&](std::size_t p) { return node_block[p]; }, [](std::size_t p) { return static_cast<int>(p); },
+        [&](std::size_t p, int at) { local[p] = at; }, row_start_, row_items_);
+    counting_sort(
+        B, J, [&](std::size_t j) { return node_block[P + j]; },
+        [](std::size_t j) { return static_cast<int>(j); }, [&](std::size_t j, int at) { local[P + j] = at; },
+        col_start_, col_items_);
+    counting_sort(
+        B, gated.size(),
+        [&](std::size_t k) { return node_block[static_cast<std::size_t>(gated[k].landmark)]; },
+        [&](std::size_t k) { return &gated[k]; }, [](std::size_t, int) {}, pair_start_, pair_items_);
   }
 
   Span<int> rows(int b) const { return span(row_items_, row_start_, b); }
@@ -136,9 +118,25 @@ struct ScanBlocks {
   std::vector<int> local;  ///< position of a landmark in its block's rows, of a measurement in its cols
 
  private:
-  static std::size_t block_of(const std::vector<int>& node_block, const GatedPair& g) {
-    return static_cast<std::size_t>(node_block[static_cast<std::size_t>(g.landmark)]);
+  /// Items 0..n−1 grouped by bucket_of(k) ∈ [0, B) (−1: left out), stably: `start` gets the B + 1 offsets,
+  /// `items` value_of(k) in bucket order, and placed(k, position of k in its bucket) is called for each.
+  template <class T, class BucketOf, class ValueOf, class Placed>
+  static void counting_sort(std::size_t B, std::size_t n, BucketOf&& bucket_of, ValueOf&& value_of,
+                            Placed&& placed, std::vector<int>& start, std::vector<T>& items) {
+    start.assign(B + 1, 0);
+    for (std::size_t k = 0; k < n; ++k)
+      if (bucket_of(k) >= 0) ++start[static_cast<std::size_t>(bucket_of(k)) + 1];
+    for (std::size_t b = 0; b < B; ++b) start[b + 1] += start[b];
+    items.resize(static_cast<std::size_t>(start[B]));
+    std::vector<int> next(start.begin(), start.end() - 1);
+    for (std::size_t k = 0; k < n; ++k) {
+      if (bucket_of(k) < 0) continue;
+      const auto b = static_cast<std::size_t>(bucket_of(k));
+      placed(k, next[b] - start[b]);
+      items[static_cast<std::size_t>(next[b]++)] = value_of(k);
+    }
   }
+
   template <class T>
   static Span<T> span(const std::vector<T>& items, const std::vector<int>& start, int b) {
     const auto k = static_cast<std::size_t>(b);
@@ -152,17 +150,17 @@ struct ScanBlocks {
 /// A block of one landmark and one measurement: log of Σ_θ over its two assignments (detected with `gain`,
 /// or missed with `log_miss` and the measurement clutter), as rank_associations and log_sum_exp would give it
 /// to the last bit (Murty's order, its gap and count limits, the sum from the best term), and the pair's β
-/// handed to `beta` when options.marginals.
+/// handed to `beta` when `marginals`.
 template <class OnBeta>
-double one_pair_block(double gain, double log_miss, const MurtyOptions& murty,
-                      const ScanLikelihoodOptions& options, OnBeta&& beta) {
+double one_pair_block(double gain, double log_miss, const MurtyOptions& murty, bool marginals,
+                      OnBeta&& beta) {
   const bool detect_best = !(log_miss > gain);
   const double best = detect_best ? gain : log_miss, other = detect_best ? log_miss : gain;
   // Murty ranks by cost −log w; the second assignment is kept if feasible, within the gap and allowed
   const bool both =
       murty.max_solutions >= 2 && other != kLogZero && !((-other) - (-best) > murty.max_cost_gap);
-  const double block_ll = both ? best + std::log(std::exp(best - best) + std::exp(other - best)) : best;
-  if (options.marginals && (detect_best || both)) {
+  const double block_ll = both ? best + std::log(1.0 + std::exp(other - best)) : best;  // log_sum_exp's sum
+  if (marginals && (detect_best || both)) {
     const double b = std::exp(gain - block_ll);
     if (b > 0.0) beta(b);
   }
@@ -242,7 +240,7 @@ ScanAssociation evaluate_scan(const Model& model, const Detection& p_D, const ty
     if (Rb.size() == 1 && Cb.size() == 1) {  // one landmark, one measurement: the two assignments directly
       const double gain = (*layout.pairs(b).begin())->gain;
       total += one_pair_block(gain, std::log1p(-out.p_detect[static_cast<std::size_t>(Rb[0])]), murty,
-                              options, [&](double beta) {
+                              options.marginals, [&](double beta) {
                                 out.betas.push_back({Rb[0], Cb[0], beta});
                               });
       continue;

@@ -344,9 +344,6 @@ TEST(MlSlamLikelihood, OnePairBlockEqualsMurtyBitForBit) {
   for (int k = 0; k < 2000; ++k) cases.emplace_back(u(rng), k % 50 == 0 ? kLogZero : u(rng));
   for (const int max_assignments : {1, 2, 50}) {
     for (const double gap : {0.0, 9.2, 1e9}) {
-      ScanLikelihoodOptions o;
-      o.max_assignments = max_assignments;
-      o.assignment_log_gap = gap;
       MurtyOptions murty;
       murty.max_solutions = static_cast<std::size_t>(max_assignments);
       murty.max_cost_gap = gap;
@@ -363,7 +360,7 @@ TEST(MlSlamLikelihood, OnePairBlockEqualsMurtyBitForBit) {
         for (const auto& h : hyps)
           if (h.measurement_of[0] >= 0) expected_beta += std::exp(h.log_weight - expected);
         std::vector<double> betas;
-        const double got = one_pair_block(gain, log_miss, murty, o, [&](double b) { betas.push_back(b); });
+        const double got = one_pair_block(gain, log_miss, murty, true, [&](double b) { betas.push_back(b); });
         EXPECT_EQ(got, expected) << gain << " " << log_miss;
         ASSERT_EQ(betas.size(), expected_beta > 0.0 ? 1U : 0U) << gain << " " << log_miss;
         if (!betas.empty()) {
