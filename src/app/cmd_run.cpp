@@ -36,18 +36,19 @@ void register_run_command(CLI::App& app) {
   auto particles = std::make_shared<int>(0);
   auto seed = std::make_shared<long long>(-1);
   auto algorithm = std::make_shared<std::string>();
-  auto* cmd = app.add_subcommand("run",
-                                 "Run SLAM on a dataset folder (KITTI odometry sequence, KITTI raw drive or "
-                                 "Victoria Park), writing trajectory, map, metrics and plots");
+  auto* cmd =
+      app.add_subcommand("run",
+                         "Run SLAM on a dataset folder (KITTI odometry sequence, KITTI raw drive, EuRoC "
+                         "MAV or Victoria Park), writing trajectory, map, metrics and plots");
   cmd->add_option(
          "dataset", options->dataset,
-         "dataset folder: KITTI odometry sequences/XX, KITTI raw DATE/DATE_drive_NNNN_sync, or the Victoria "
-         "Park folder")
+         "dataset folder: KITTI odometry sequences/XX, KITTI raw DATE/DATE_drive_NNNN_sync, an EuRoC MAV "
+         "sequence (the folder holding mav0/), or the Victoria Park folder")
       ->required();
   cmd->add_option("--config", options->config_file,
                   "YAML config (default: built-in defaults; see config/*.yaml for every key)");
   cmd->add_option("--out", options->out_dir, "output folder")->capture_default_str();
-  cmd->add_option("--format", *format, "dataset type: auto, kitti, kitti_raw or victoria_park")
+  cmd->add_option("--format", *format, "dataset type: auto, kitti, kitti_raw, euroc or victoria_park")
       ->capture_default_str();
   cmd->add_option("--gt", options->ground_truth,
                   "ground-truth pose file (KITTI format) overriding the dataset's own");

@@ -194,7 +194,7 @@ void write_run_outputs(const std::string& out_dir, const RunRecord& r, bool plot
         "\ninterrupted during the refinement's final pass: every frame done, the refined trajectory "
         "is the pass's last completed round\n");
   }
-  std::printf("\n%s", table.c_str());
+  if (!table.empty()) std::printf("\n%s", table.c_str());
   std::printf(
       "\nframes %zu, %.2f fps (frontend median %.1f ms, VO %.1f ms, backend %.1f ms), map %zu landmarks\n",
       r.slam_poses.size(), r.wall_s > 0 ? frames / r.wall_s : 0.0, quantile(r.frontend_ms, 0.5),

@@ -96,6 +96,10 @@ int run_stereo(const RunOptions& options) {
   const std::size_t done = pipeline.frames_done();
   if (done < frames) spdlog::warn("interrupted after {} of {} frames; writing their outputs", done, frames);
 
+  if (dataset->ground_truth() && done < 2) {
+    spdlog::info("no evaluation: {} frame{} done, and the metrics compare motion between frames", done,
+                 done == 1 ? "" : "s");
+  }
   if (dataset->ground_truth() && done >= 2) {
     const PoseList& gt = *dataset->ground_truth();
     record.ground_truth = io::relative_to_first(

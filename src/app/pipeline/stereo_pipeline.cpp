@@ -73,9 +73,11 @@ void StereoPipeline::run(RunRecord& record, const std::function<bool()>& stop) {
                  vo_.fallbacks() + vo_.missing(), vo_.missing());
   }
   const frontend::PixelNoiseEstimator& noise = vo_.odometry().pixel_noise();
-  spdlog::info("keypoint noise estimated from the VO residuals: sigma {:.3f} px ({} samples){}",
-               noise.raw_sigma(), noise.samples(),
-               config_.pixel_sigma.automatic ? "" : ", not used (measurement.pixel_sigma is fixed)");
+  if (noise.estimated()) {
+    spdlog::info("keypoint noise estimated from the VO residuals: sigma {:.3f} px ({} samples){}",
+                 noise.raw_sigma(), noise.samples(),
+                 config_.pixel_sigma.automatic ? "" : ", not used (measurement.pixel_sigma is fixed)");
+  }
   if (filter_) {
     record.slam_poses = filter_->trajectory();  // step 0 is the first frame (identity), then one per frame
     record.map = filter_->map_points();
