@@ -1,6 +1,6 @@
 #include "core/lie.hpp"
 
-#include <algorithm>
+#include <cmath>
 
 namespace glmbslam {
 
@@ -61,8 +61,11 @@ Matrix6d se3_adjoint(const Pose3& T) {
 }
 
 double rotation_angle(const Eigen::Matrix3d& R) {
-  const double d = 0.5 * (R.trace() - 1.0);
-  return std::acos(std::clamp(d, -1.0, 1.0));
+  // R − Rᵀ = 2 sin θ [k]×, trace R = 1 + 2 cos θ. atan2 keeps full precision near 0 and π, where acos of the
+  // trace alone resolves only ~√ε, and a symmetric deviation from orthonormality (rotations written with six
+  // digits, as in KITTI pose files, RᵀR ≠ I) adds no angle.
+  const Eigen::Vector3d axis(R(2, 1) - R(1, 2), R(0, 2) - R(2, 0), R(1, 0) - R(0, 1));
+  return std::atan2(0.5 * axis.norm(), 0.5 * (R.trace() - 1.0));
 }
 
 }  // namespace glmbslam

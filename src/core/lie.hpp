@@ -43,7 +43,9 @@ inline Vector6d se3_minus(const Pose3& a, const Pose3& b) {
 }
 /// Adjoint of T, Ad_T ξ = Log(T Exp(ξ) T⁻¹) to first order, for ξ = (ρ, φ).
 Matrix6d se3_adjoint(const Pose3& T);
-/// Rotation angle of a rotation matrix in [0, π], robust near 0 and π (KITTI devkit formula, clamped).
+/// Rotation angle of a rotation matrix in [0, π] from its skew part and trace (atan2): exact near 0 and π and
+/// blind to a symmetric deviation from orthonormality. (The KITTI metric keeps the devkit's acos:
+/// kitti_metric.)
 double rotation_angle(const Eigen::Matrix3d& R);
 
 /// Wraps an angle to (−π, π].

@@ -46,6 +46,21 @@ TEST(Lie, WrapAngle) {
 
 TEST(Lie, RotationAngle) {
   EXPECT_NEAR(rotation_angle(so3_exp(Eigen::Vector3d(0, 0.4, 0))), 0.4, 1e-12);
+  // near 0 and π, where acos of the trace resolves only ~1e-8 rad
+  EXPECT_NEAR(rotation_angle(so3_exp(Eigen::Vector3d(3e-10, -4e-10, 0))), 5e-10, 1e-20);
+  EXPECT_NEAR(rotation_angle(so3_exp(Eigen::Vector3d(0, 0, M_PI - 1e-9))), M_PI - 1e-9, 1e-15);
+  EXPECT_NEAR(rotation_angle(so3_exp(Eigen::Vector3d(0.3, -1.2, 2.0))),
+              Eigen::Vector3d(0.3, -1.2, 2.0).norm(), 1e-12);
+  EXPECT_EQ(rotation_angle(Eigen::Matrix3d::Identity()), 0.0);
+}
+
+TEST(Lie, RotationAngleIgnoresASymmetricDeviationFromOrthonormality) {
+  // a rotation written with six significant digits, as in KITTI pose files: RᵀR = I + S with S symmetric
+  const Eigen::Matrix3d R = so3_exp(Eigen::Vector3d(0.1, 0.7, -0.2));
+  const Eigen::Matrix3d R6 = (R * 1e6).array().round().matrix() / 1e6;
+  const Eigen::Matrix3d e = R6.transpose() * R6;  // the error of an estimate equal to its ground truth
+  EXPECT_GT((e - Eigen::Matrix3d::Identity()).norm(), 1e-8);
+  EXPECT_LT(rotation_angle(e), 1e-15);
 }
 
 }  // namespace

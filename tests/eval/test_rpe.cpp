@@ -41,6 +41,26 @@ TEST(Rpe, RotationErrorAndRmseVersusMean) {
   EXPECT_NEAR(r.rot_rmse_deg, std::sqrt(2.0 * 4.0 / 10.0), 1e-6);
 }
 
+TEST(Rpe, RotationsWrittenWithSixDigitsAgainstThemselvesHaveNoError) {
+  // A turning path written as KITTI pose files hold it (six significant digits, so RᵀR ≠ I by ~1e-7): the
+  // estimate equal to the ground truth has no rotation error (acos of the trace gave ~0.01° here).
+  PoseList gt;
+  for (int i = 0; i < 30; ++i) {
+    Pose3 T = Pose3::Identity();
+    T.linear() = Eigen::AngleAxisd(0.05 * i, Eigen::Vector3d(0.1, 1.0, 0.05).normalized()).toRotationMatrix();
+    T.linear() = (T.linear() * 1e6).array().round().matrix() / 1e6;
+    T.translation() = Eigen::Vector3d(0.3 * i, 0.0, 1.0 * i);
+    gt.push_back(T);
+  }
+  const RpeResult r = evaluate_rpe_frames(gt, gt, 1);
+  EXPECT_LT(r.rot_rmse_deg, 1e-12);
+  // and an error of 1e-7 rad (below acos's ~1.5e-8 resolution by an order only) comes out exact
+  PoseList est = gt;
+  est[10].linear() = est[10].linear() * Eigen::AngleAxisd(1e-7, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  const RpeResult one = evaluate_rpe_frames(gt, est, 1);
+  EXPECT_NEAR(one.rot_mean_deg, 2.0 * 1e-7 * 180.0 / M_PI / 29.0, 1e-13);
+}
+
 TEST(Rpe, DistanceDelta) {
   // 1 m per frame: a 10 m delta pairs frame i with i + 11 (first frame strictly beyond 10 m).
   const PoseList gt = line(40, 1.0);
