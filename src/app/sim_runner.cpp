@@ -40,19 +40,24 @@ json run_simulation(const SimOptions& options) {
 std::string summarize_simulation(const json& m) {
   if (m.value("scenario", "") == "paper004_1d") return summarize_line_simulation(m);
   if (m["runs"].get<int>() == 0) return "sim interrupted before any run finished (metrics.json says so)";
+  const bool refined = m.contains("ml") && m["ml"].contains("filter_position_rmse_per_run_m");
   std::ostringstream s;
   s.setf(std::ios::fixed);
   s.precision(3);
   s << m["scenario"].get<std::string>() << " " << m["algorithm"].get<std::string>()
     << " N=" << m["particles"].get<int>() << " runs=" << m["runs"].get<int>()
-    << " clutter=" << m["clutter_rate"].get<double>() << ": position RMSE "
-    << m["position_rmse_m"].get<double>() << " m, heading RMSE " << m["heading_rmse_deg"].get<double>()
-    << " deg";
-  if (m.contains("ospa")) s << ", mean OSPA " << m["ospa"]["mean_over_steps_m"].get<double>() << " m";
+    << " clutter=" << m["clutter_rate"].get<double>() << ": " << (refined ? "refined " : "")
+    << "position RMSE " << m["position_rmse_m"].get<double>() << " m, heading RMSE "
+    << m["heading_rmse_deg"].get<double>() << " deg";
+  if (m.contains("ospa")) {
+    // the per-step OSPA scores the filter's map at each step; the refinement has one map, at the end
+    s << ", mean OSPA " << m["ospa"]["mean_over_steps_m"].get<double>() << " m"
+      << (refined ? " (the filter's maps, step by step)" : "");
+  }
   if (m.contains("gospa")) s << ", GOSPA " << m["gospa"]["distance_m"]["mean"].get<double>() << " m";
   s << ", " << m["ms_per_step"]["mean"].get<double>() << " ms/step, ESS " << m["ess_percent"].get<double>()
     << " %, resampling " << m["resampling_percent"].get<double>() << " %";
-  if (m.contains("ml") && m["ml"].contains("filter_position_rmse_per_run_m")) {
+  if (refined) {
     s << "; per run: refined position RMSE " << m["position_rmse_per_run_m"]["mean"].get<double>()
       << " m, the filter's " << m["ml"]["filter_position_rmse_per_run_m"]["mean"].get<double>() << " m";
     if (m["ml"].contains("filter_gospa_m"))
