@@ -75,17 +75,7 @@ KittiOdometryDataset::KittiOdometryDataset(const std::string& sequence_dir,
   detail::require_directory(dir, "KITTI odometry sequence folder");
   left_files_ = detail::list_png_files(dir / "image_0");
   right_files_ = detail::list_png_files(dir / "image_1");
-  if (left_files_.size() != right_files_.size()) {
-    throw InputError(dir.string(), "left/right image count mismatch: image_0 has " +
-                                       std::to_string(left_files_.size()) + " images, image_1 has " +
-                                       std::to_string(right_files_.size()));
-  }
-  for (std::size_t i = 0; i < left_files_.size(); ++i) {
-    if (left_files_.name(i) != right_files_.name(i)) {
-      throw InputError(right_files_.path(i).string(),
-                       "right image has no left partner (expected " + left_files_.name(i) + ")");
-    }
-  }
+  detail::require_stereo_pairs(left_files_, right_files_);
   calibration_ = read_kitti_odometry_calibration((dir / "calib.txt").string());
   const std::string times_path = (dir / "times.txt").string();
   timestamps_ = read_kitti_times(times_path);

@@ -195,17 +195,7 @@ KittiRawDataset::KittiRawDataset(const std::string& drive_dir, const std::string
   detail::require_directory(dir, "KITTI raw drive folder");
   left_files_ = detail::list_png_files(dir / "image_00" / "data");
   right_files_ = detail::list_png_files(dir / "image_01" / "data");
-  if (left_files_.size() != right_files_.size()) {
-    throw InputError(dir.string(), "left/right image count mismatch: image_00 has " +
-                                       std::to_string(left_files_.size()) + " images, image_01 has " +
-                                       std::to_string(right_files_.size()));
-  }
-  for (std::size_t i = 0; i < left_files_.size(); ++i) {
-    if (left_files_.name(i) != right_files_.name(i)) {
-      throw InputError(right_files_.path(i).string(),
-                       "right image has no left partner (expected " + left_files_.name(i) + ")");
-    }
-  }
+  detail::require_stereo_pairs(left_files_, right_files_);
   const std::string times_path = (dir / "image_00" / "timestamps.txt").string();
   timestamps_ = read_kitti_raw_timestamps(times_path);
   if (timestamps_.size() != left_files_.size()) {

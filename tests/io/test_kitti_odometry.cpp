@@ -81,16 +81,22 @@ TEST(KittiOdometry, MissingFolder) {
 TEST(KittiOdometry, LeftRightCountMismatch) {
   const auto root = test::fresh_temp_dir("kitti_odo");
   const auto seq = make_fake_kitti_sequence(root, 3);
-  fs::remove(seq / "image_1" / "000002.png");
-  expect_input_error([&] { KittiOdometryDataset(seq.string()); }, seq.string(),
-                     "left/right image count mismatch");
+  fs::remove(seq / "image_1" / "000001.png");
+  // the message names the image without a partner, not only the counts
+  expect_input_error([&] { KittiOdometryDataset(seq.string()); }, (seq / "image_0" / "000001.png").string(),
+                     "left image has no partner " + (seq / "image_1" / "000001.png").string() +
+                         " (image_0 has 3 images, image_1 has 2)");
+  fs::copy_file(seq / "image_1" / "000000.png", seq / "image_1" / "000001.png");
+  fs::copy_file(seq / "image_1" / "000000.png", seq / "image_1" / "000003.png");
+  expect_input_error([&] { KittiOdometryDataset(seq.string()); }, (seq / "image_1" / "000003.png").string(),
+                     "right image has no partner");
 }
 
 TEST(KittiOdometry, LeftRightNamesMismatch) {
   const auto root = test::fresh_temp_dir("kitti_odo");
   const auto seq = make_fake_kitti_sequence(root, 3);
   fs::rename(seq / "image_1" / "000002.png", seq / "image_1" / "000009.png");
-  expect_input_error([&] { KittiOdometryDataset(seq.string()); }, "000009.png", "no left partner");
+  expect_input_error([&] { KittiOdometryDataset(seq.string()); }, "image_0/000002.png", "has no partner");
 }
 
 TEST(KittiOdometry, TimesCountMismatch) {

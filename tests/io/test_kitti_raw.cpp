@@ -112,8 +112,8 @@ TEST(KittiRaw, BadInput) {
   const auto date = drive.parent_path();
   {
     fs::remove(drive / "image_01" / "data" / (ten_digits(1) + ".png"));
-    expect_input_error([&] { KittiRawDataset(drive.string()); }, drive.string(),
-                       "left/right image count mismatch");
+    expect_input_error([&] { KittiRawDataset(drive.string()); }, ten_digits(1) + ".png",
+                       "left image has no partner");
     write_image(drive / "image_01" / "data" / (ten_digits(1) + ".png"), test::kFakeWidth, test::kFakeHeight,
                 1);
   }
