@@ -1,6 +1,7 @@
 #include "eval/alignment.hpp"
 
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 #include <Eigen/SVD>
@@ -67,6 +68,15 @@ AteResult evaluate_ate(const PoseList& gt, const PoseList& est) {
   r.sim3_scale = r.sim3_alignment.scale;
   r.se3_rmse_m = errors_after(r.se3_alignment, p_est, p_gt, r.se3_errors_m);
   r.sim3_rmse_m = errors_after(r.sim3_alignment, p_est, p_gt, r.sim3_errors_m);
+  // A ground truth that stays in one place (a still camera) fixes no scale: the similarity would shrink the
+  // estimate onto the point (scale 0, error 0). Sim(3) is then reported as undefined.
+  const double gt_spread =
+      std::sqrt((p_gt.colwise() - p_gt.rowwise().mean()).squaredNorm() / static_cast<double>(p_gt.cols()));
+  if (gt_spread < kMinSim3Spread) {
+    r.sim3_alignment = r.se3_alignment;
+    r.sim3_scale = r.sim3_rmse_m = std::numeric_limits<double>::quiet_NaN();
+    r.sim3_errors_m.clear();
+  }
   return r;
 }
 

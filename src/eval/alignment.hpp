@@ -32,15 +32,19 @@ Eigen::Matrix3Xd positions_of(const PoseList& poses);
 struct AteResult {
   int poses = 0;
   double se3_rmse_m = 0.0;   ///< RMSE after the best rigid (SE(3)) alignment
-  double sim3_rmse_m = 0.0;  ///< RMSE after the best similarity (Sim(3)) alignment
-  double sim3_scale = 1.0;   ///< scale of that similarity (estimate → ground truth)
+  double sim3_rmse_m = 0.0;  ///< RMSE after the best similarity (Sim(3)) alignment (NaN: ground truth still)
+  double sim3_scale = 1.0;  ///< scale of that similarity (estimate → ground truth; NaN: ground truth still)
   Similarity3 se3_alignment;
   Similarity3 sim3_alignment;
   std::vector<double> se3_errors_m;   ///< per-pose position error after the SE(3) alignment
-  std::vector<double> sim3_errors_m;  ///< per-pose position error after the Sim(3) alignment
+  std::vector<double> sim3_errors_m;  ///< per-pose position error after the Sim(3) alignment (empty: NaN)
 };
 
-/// ATE of `est` against `gt` (same size ≥ 1, else std::invalid_argument).
+/// Below this RMS spread of the ground-truth positions (m) the Sim(3) figures are undefined (NaN, no errors).
+constexpr double kMinSim3Spread = 1e-6;
+
+/// ATE of `est` against `gt` (same size ≥ 1, else std::invalid_argument). Sim(3) is NaN when the ground truth
+/// does not move (kMinSim3Spread).
 AteResult evaluate_ate(const PoseList& gt, const PoseList& est);
 
 }  // namespace glmbslam::eval

@@ -69,7 +69,8 @@ std::vector<std::string> write_evaluation_plots(const std::string& dir, const Po
                "position error [m]");
     p.set_include_zero_y(true);
     p.add_series(dist, evaluation.ate.se3_errors_m, colours::kRed, "SE(3) aligned");
-    p.add_series(dist, evaluation.ate.sim3_errors_m, colours::kBlue, "Sim(3) aligned");
+    if (!evaluation.ate.sim3_errors_m.empty())
+      p.add_series(dist, evaluation.ate.sim3_errors_m, colours::kBlue, "Sim(3) aligned");
     written.push_back((d / "ate_error.png").string());
     p.save_png(written.back());
   }

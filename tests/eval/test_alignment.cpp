@@ -98,6 +98,27 @@ TEST(Ate, HandComputedOffset) {
   EXPECT_NEAR(a.se3_rmse_m, 1.0, 1e-9);
 }
 
+TEST(Ate, StillGroundTruthLeavesSim3Undefined) {
+  // A still camera: the ground truth stays at one point and the estimate jitters by millimetres around it.
+  // A similarity would shrink the estimate onto the point (scale 0, error 0); Sim(3) is undefined instead,
+  // and SE(3) keeps the jitter.
+  PoseList gt(20, Pose3::Identity()), est;
+  for (int i = 0; i < 20; ++i) {
+    Pose3 T = Pose3::Identity();
+    T.translation() = Eigen::Vector3d(0.002 * std::sin(i), 0.001 * std::cos(3 * i), 0.0);
+    est.push_back(T);
+  }
+  const AteResult a = evaluate_ate(gt, est);
+  EXPECT_TRUE(std::isnan(a.sim3_scale));
+  EXPECT_TRUE(std::isnan(a.sim3_rmse_m));
+  EXPECT_TRUE(a.sim3_errors_m.empty());
+  EXPECT_GT(a.se3_rmse_m, 5e-4);
+  EXPECT_EQ(a.se3_errors_m.size(), 20u);
+  // a ground truth that moves by more than kMinSim3Spread keeps its Sim(3)
+  gt[10].translation().x() = 1e-3;
+  EXPECT_TRUE(std::isfinite(evaluate_ate(gt, est).sim3_scale));
+}
+
 TEST(Ate, SizeMismatchAndEmptyThrow) {
   PoseList one(1, Pose3::Identity());
   EXPECT_THROW(evaluate_ate(one, PoseList{}), std::invalid_argument);
