@@ -15,6 +15,7 @@
 // outputs of the frames done ("interrupted": true in metrics.json), then exit with code 130/143
 // (core/interrupt.hpp).
 #include <algorithm>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -281,7 +282,8 @@ void run_vo(const VoArgs& a) {
                  e.ate.se3_rmse_m, end_error, e.path_length_m,
                  e.path_length_m > 0 ? 100.0 * end_error / e.path_length_m : 0.0);
   }
-  write_ground_truth_file(out, gt ? &*gt : nullptr, mask);  // without: removes one of an earlier run
+  // without: removes one of an earlier run
+  const bool ground_truth_written = write_ground_truth_file(out, gt ? &*gt : nullptr, mask);
   nlohmann::json timing = {{"fps", static_cast<double>(n) / wall_s}, {"wall_s", wall_s}};
   for (const auto& [name, v] :
        std::vector<std::pair<std::string, const std::vector<double>*>>{{"load", &load_ms},
@@ -311,8 +313,18 @@ void run_vo(const VoArgs& a) {
   }
   write_vo_report((out / "report.html").string(), report, j);
   remove_streamed_trajectories(out);
-  spdlog::info("vo: wrote {} poses to {}; report {}", poses.size(), (out / "vo_trajectory.txt").string(),
-               (out / "report.html").string());
+  // the results summary on stdout, as `run` prints it (kept under --quiet)
+  if (evaluation) std::printf("\nVO\n%s", eval::format_table(*evaluation).c_str());
+  std::printf("\nframes %zu, %.2f fps (total median %.1f ms)\n", poses.size(),
+              static_cast<double>(n) / wall_s, summarize(total_ms).median);
+  std::printf(
+      "outputs in %s:\n  report       %s  (open in a browser)\n  VO           %s\n  metrics      %s\n"
+      "  per frame    %s\n",
+      out.string().c_str(), (out / "report.html").string().c_str(),
+      (out / "vo_trajectory.txt").string().c_str(), (out / "metrics.json").string().c_str(),
+      (out / "vo_frames.csv").string().c_str());
+  if (png_written) std::printf("  features     %s\n", (out / "vo_features.png").string().c_str());
+  if (ground_truth_written) std::printf("  ground truth %s\n", (out / "ground_truth.txt").string().c_str());
 }
 
 }  // namespace
@@ -321,10 +333,11 @@ void register_vo_command(CLI::App& app) {
   auto args = std::make_shared<VoArgs>();
   auto* cmd =
       app.add_subcommand("vo", "Stereo visual odometry only: ORB frontend + VO, trajectory and metrics");
-  cmd->add_option("dataset", args->dataset, "dataset folder (KITTI odometry sequence or KITTI raw drive)")
+  cmd->add_option("dataset", args->dataset,
+                  "dataset folder (KITTI odometry sequence, KITTI raw drive or EuRoC MAV sequence)")
       ->required();
   cmd->add_option("--config", args->config, "YAML config; its `frontend` mapping is read");
-  cmd->add_option("--format", args->format, "auto, kitti or kitti_raw")->capture_default_str();
+  cmd->add_option("--format", args->format, "auto, kitti, kitti_raw or euroc")->capture_default_str();
   cmd->add_option("--gt", args->gt, "ground-truth KITTI pose file (overrides the dataset's own)");
   cmd->add_option("--frames", args->frames, "half-open frame range A:B (default: all)");
   cmd->add_option("--sample-frame", args->sample_frame, "frame (within the range) drawn in vo_features.png");
