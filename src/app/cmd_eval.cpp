@@ -5,6 +5,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include "app/cli_checks.hpp"
 #include "app/commands.hpp"
 #include "core/error.hpp"
 #include "eval/association.hpp"
@@ -72,13 +73,13 @@ void register_eval_command(CLI::App& app) {
       ->check(CLI::IsMember({"kitti", "tum"}))
       ->capture_default_str();
   cmd->add_option("--tolerance", args->tolerance_s, "TUM timestamp association tolerance [s]")
-      ->check(CLI::PositiveNumber)
+      ->check(positive_number())
       ->capture_default_str();
   cmd->add_option("--rpe-frames", args->rpe_frames, "RPE frame deltas")
-      ->check(CLI::PositiveNumber)
+      ->check(positive_number())
       ->capture_default_str();
   cmd->add_option("--rpe-distances", args->rpe_distances, "RPE distance deltas [m]")
-      ->check(CLI::PositiveNumber)
+      ->check(positive_number())
       ->capture_default_str();
   cmd->add_option("--label", args->label, "name of the estimate in plot legends")->capture_default_str();
   cmd->callback([args] { run_eval(*args); });

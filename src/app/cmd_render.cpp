@@ -2,6 +2,7 @@
 // (src/sim/kitti_sequence_writer.hpp).
 #include <spdlog/spdlog.h>
 
+#include "app/cli_checks.hpp"
 #include "app/commands.hpp"
 #include "sim/kitti_sequence_writer.hpp"
 
@@ -27,7 +28,7 @@ void register_render_command(CLI::App& app) {
   cmd->add_option("--seed", opt->seed, "world and noise seed")->capture_default_str();
   cmd->add_option("--rate", opt->frame_rate, "frame rate in Hz (times.txt)")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(positive_number());
   cmd->add_option("--duplicate-every", opt->duplicate_every,
                   "every N-th frame repeats the previous one byte for byte (duplicated frames in a log)");
   cmd->add_option("--drop-every", opt->drop_every,
