@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <vector>
 
 namespace glmbslam {
 
@@ -59,6 +60,40 @@ ConfigNode ConfigNode::child(const std::string& key) {
   return ConfigNode(c ? c : YAML::Node(YAML::NodeType::Map), file_, path_.empty() ? key : path_ + "." + key);
 }
 
+namespace {
+
+/// Levenshtein distance (insertions, deletions, substitutions) between two short keys.
+std::size_t edit_distance(const std::string& a, const std::string& b) {
+  std::vector<std::size_t> row(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    std::size_t diagonal = row[0];
+    row[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      const std::size_t up = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      diagonal = up;
+    }
+  }
+  return row[b.size()];
+}
+
+}  // namespace
+
+std::string ConfigNode::unknown_key_hint(const std::string& key) const {
+  // the closest known key within a few edits (a typo), else the keys this mapping knows
+  const std::string* best = nullptr;
+  std::size_t best_distance = std::max<std::size_t>(2, key.size() / 4) + 1;
+  for (const std::string& k : known_) {
+    const std::size_t d = edit_distance(key, k);
+    if (d < best_distance) best = &k, best_distance = d;
+  }
+  if (best != nullptr) return " (did you mean '" + *best + "'?)";
+  std::string list;
+  for (const std::string& k : known_) list += (list.empty() ? "" : ", ") + k;
+  return list.empty() ? " (this mapping takes no keys)" : " (known here: " + list + ")";
+}
+
 void ConfigNode::finish() const {
   if (node_ && node_.IsMap()) {
     for (const auto& kv : node_) {
@@ -66,7 +101,7 @@ void ConfigNode::finish() const {
       if (!kv.first.IsScalar())
         fail(YAML::Dump(kv.first), "is not a known setting (keys must be plain names)");
       const std::string key = kv.first.Scalar();
-      if (known_.count(key) == 0) fail(key, "is not a known setting (typo?)");
+      if (known_.count(key) == 0) fail(key, "is not a known setting" + unknown_key_hint(key));
     }
   }
 }

@@ -53,13 +53,15 @@ class ConfigNode {
   /// A nested mapping; missing keys give an empty node (all defaults). Throws if `key` is not a mapping.
   /// Call finish() on the child too once all its keys are read.
   ConfigNode child(const std::string& key);
-  /// Throws ConfigError for the first key of this mapping that was never read.
+  /// Throws ConfigError for the first key of this mapping that was never read, suggesting the closest known
+  /// key ("did you mean") or listing the known ones.
   void finish() const;
 
   [[noreturn]] void fail(const std::string& key, const std::string& problem) const;
   const std::string& file() const { return file_; }
 
  private:
+  std::string unknown_key_hint(const std::string& key) const;
   YAML::Node lookup(const std::string& key);
   template <typename T>
   static std::string type_name();

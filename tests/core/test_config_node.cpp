@@ -32,6 +32,26 @@ TEST(ConfigNode, UnknownKeyIsAnErrorNamingKeyAndFile) {
   }
 }
 
+TEST(ConfigNode, UnknownKeySuggestsTheClosestKnownOneOrListsThem) {
+  auto message = [](const std::string& yaml) {
+    auto node = ConfigNode::parse(yaml, "cfg.yaml");
+    int v = 0;
+    node.read("particles", v);
+    node.read("seed", v);
+    try {
+      node.finish();
+    } catch (const ConfigError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_EQ(message("particels: 5\n"),
+            "cfg.yaml: key 'particels' is not a known setting (did you mean 'particles'?)");
+  EXPECT_EQ(message("sed: 1\n"), "cfg.yaml: key 'sed' is not a known setting (did you mean 'seed'?)");
+  EXPECT_EQ(message("mlslam: {}\n"),
+            "cfg.yaml: key 'mlslam' is not a known setting (known here: particles, seed)");
+}
+
 TEST(ConfigNode, WrongTypeIsAnError) {
   auto node = ConfigNode::parse("a: [1, 2]\n", "cfg.yaml");
   int a = 0;
