@@ -216,6 +216,10 @@ int run_victoria_park(const RunOptions& options) {
   set_graceful_interrupts(true);  // SIGINT/SIGTERM: stop at the next scan and write the steps done
   if (!options.refine.empty() && options.refine != "ml")
     throw ConfigError("--refine must be ml (got '" + options.refine + "')");
+  if (options.refine == "ml" && cfg.algorithm == "mlslam")
+    throw ConfigError(
+        "--refine ml refines a filter's estimate, and --algorithm mlslam is the RFS-ML solve "
+        "itself (from the odometry): leave one of them out");
   if (cfg.algorithm == "deadreckoning" || cfg.algorithm == "mlslam") {
     DeadReckoning f(motion, cfg.initial_pose);
     rec = run_filter(f, controls, measurements, 1);
