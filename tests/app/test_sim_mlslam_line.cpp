@@ -83,5 +83,22 @@ TEST(SimMlSlamLine, OnlyTheStandaloneSolverRunsOnIt) {
   EXPECT_THROW(run_simulation(o), ConfigError);
 }
 
+TEST(SimMlSlam, TheStandaloneSolveIsNotRefinedAgain) {
+  // --algorithm mlslam is the RFS-ML solve itself: --refine ml with it is an error saying so, on every
+  // scenario
+  const auto dir = test::fresh_temp_dir("sim_mlslam_refine");
+  SimOptions o = paper004_1d(dir, "mlslam: {}\n", -1.0);
+  o.scenario = "paper2019";
+  o.algorithm = "mlslam";
+  o.refine = "ml";
+  try {
+    run_simulation(o);
+    FAIL() << "expected ConfigError";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("--algorithm mlslam is the RFS-ML solve"), std::string::npos)
+        << e.what();
+  }
+}
+
 }  // namespace
 }  // namespace glmbslam::app
