@@ -33,6 +33,12 @@ double mean_of(const std::vector<double>& v) {
   return v.empty() ? 0.0 : s / static_cast<double>(v.size());
 }
 
+/// The mean, or null when nothing was measured (RFS-ML from the odometry has no per-step maps and no
+/// particle weights: its per-step OSPA and ESS do not exist, they are not 0).
+json mean_or_null(const std::vector<double>& v) {
+  return v.empty() ? json(nullptr) : json(mean_of(v));
+}
+
 RunStatistics aggregate(const std::vector<SimRunRecord>& records, const sim::Scenario2D& truth) {
   const std::size_t runs = records.size(), K = truth.steps();
   RunStatistics st;
@@ -99,9 +105,9 @@ void add_map_metrics(json& m, const SimOptions& o, const sim::Scenario2D& truth,
         json{{"c_m", kSimOspaC},
              {"p", kSimOspaP},
              {"per_step_mean_m", st.curves.ospa_mean},
-             {"mean_over_steps_m", mean_of(st.curves.ospa_mean)},
+             {"mean_over_steps_m", mean_or_null(st.curves.ospa_mean)},
              {"per_step_gospa_mean_m", st.gospa_mean},
-             {"gospa_mean_over_steps_m", mean_of(st.gospa_mean)},
+             {"gospa_mean_over_steps_m", mean_or_null(st.gospa_mean)},
              {"final_m", summary_json(st.final_ospa)},
              {"ground_truth", "landmarks seen (in the field of view of the true pose) up to the step"}};
     const auto seen = seen_so_far(truth);
@@ -182,10 +188,11 @@ SimMetrics sim_metrics(const SimOptions& o, const SimRuns& runs, const sim::Scen
   add_map_metrics(m, o, truth, st);
   add_ml_metrics(m, o, st);
   m["ms_per_step"] = summary_json(st.ms_all);
-  m["ess_percent"] = mean_of(st.ess_all);
+  m["ess_percent"] = mean_or_null(st.ess_all);
   m["resampling_percent"] =
-      st.steps_total > 0 ? 100.0 * static_cast<double>(st.resampled) / static_cast<double>(st.steps_total)
-                         : 0.0;
+      st.ess_all.empty() || st.steps_total == 0
+          ? json(nullptr)
+          : json(100.0 * static_cast<double>(st.resampled) / static_cast<double>(st.steps_total));
   return {m, st.curves};
 }
 

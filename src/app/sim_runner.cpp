@@ -44,19 +44,25 @@ std::string summarize_simulation(const json& m) {
   std::ostringstream s;
   s.setf(std::ios::fixed);
   s.precision(3);
-  s << m["scenario"].get<std::string>() << " " << m["algorithm"].get<std::string>()
-    << " N=" << m["particles"].get<int>() << " runs=" << m["runs"].get<int>()
-    << " clutter=" << m["clutter_rate"].get<double>() << ": " << (refined ? "refined " : "")
-    << "position RMSE " << m["position_rmse_m"].get<double>() << " m, heading RMSE "
-    << m["heading_rmse_deg"].get<double>() << " deg";
-  if (m.contains("ospa")) {
+  const std::string algorithm = m["algorithm"].get<std::string>();
+  s << m["scenario"].get<std::string>() << " " << algorithm;
+  if (algorithm != "mlslam" && algorithm != "dr") s << " N=" << m["particles"].get<int>();  // no particles
+  s << " runs=" << m["runs"].get<int>() << " clutter=" << m["clutter_rate"].get<double>() << ": "
+    << (refined ? "refined " : "") << "position RMSE " << m["position_rmse_m"].get<double>()
+    << " m, heading RMSE " << m["heading_rmse_deg"].get<double>() << " deg";
+  if (m.contains("ospa") && m["ospa"]["mean_over_steps_m"].is_number()) {
     // the per-step OSPA scores the filter's map at each step; the refinement has one map, at the end
     s << ", mean OSPA " << m["ospa"]["mean_over_steps_m"].get<double>() << " m"
       << (refined ? " (the filter's maps, step by step)" : "");
+  } else if (m.contains("ospa")) {
+    s << ", final-map OSPA " << m["ospa"]["final_m"]["mean"].get<double>() << " m";
   }
   if (m.contains("gospa")) s << ", GOSPA " << m["gospa"]["distance_m"]["mean"].get<double>() << " m";
-  s << ", " << m["ms_per_step"]["mean"].get<double>() << " ms/step, ESS " << m["ess_percent"].get<double>()
-    << " %, resampling " << m["resampling_percent"].get<double>() << " %";
+  s << ", " << m["ms_per_step"]["mean"].get<double>() << " ms/step";
+  if (m["ess_percent"].is_number()) {
+    s << ", ESS " << m["ess_percent"].get<double>() << " %, resampling "
+      << m["resampling_percent"].get<double>() << " %";
+  }
   if (refined) {
     s << "; per run: refined position RMSE " << m["position_rmse_per_run_m"]["mean"].get<double>()
       << " m, the filter's " << m["ml"]["filter_position_rmse_per_run_m"]["mean"].get<double>() << " m";

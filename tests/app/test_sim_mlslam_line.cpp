@@ -83,6 +83,25 @@ TEST(SimMlSlamLine, OnlyTheStandaloneSolverRunsOnIt) {
   EXPECT_THROW(run_simulation(o), ConfigError);
 }
 
+TEST(SimMlSlam, OnPaper2019ItReportsTheFinalMapAndNoParticleFigures) {
+  // RFS-ML from the odometry keeps no map per step and no particle weights: the per-step OSPA, ESS and
+  // resampling are null (they were written as 0, "mean OSPA 0.000 m"), and the summary gives the final map's
+  const auto dir = test::fresh_temp_dir("sim_mlslam_2019");
+  SimOptions o = paper004_1d(dir, "mlslam: {}\n", -1.0);
+  o.scenario = "paper2019";
+  o.runs = 1;
+  o.max_steps = 60;
+  const nlohmann::json m = run_simulation(o);
+  EXPECT_TRUE(m["ospa"]["mean_over_steps_m"].is_null());
+  EXPECT_TRUE(m["ess_percent"].is_null());
+  EXPECT_TRUE(m["resampling_percent"].is_null());
+  EXPECT_GT(m["ospa"]["final_m"]["mean"].get<double>(), 0.0);
+  const std::string line = summarize_simulation(m);
+  EXPECT_NE(line.find("final-map OSPA"), std::string::npos) << line;
+  EXPECT_EQ(line.find("ESS"), std::string::npos) << line;
+  EXPECT_EQ(line.find("N="), std::string::npos) << line;
+}
+
 TEST(SimMlSlam, TheStandaloneSolveIsNotRefinedAgain) {
   // --algorithm mlslam is the RFS-ML solve itself: --refine ml with it is an error saying so, on every
   // scenario
