@@ -53,8 +53,9 @@ void register_run_command(CLI::App& app) {
   cmd->add_option("--gt", options->ground_truth,
                   "ground-truth pose file (KITTI format) overriding the dataset's own");
   cmd->add_option("--frames", *frames, "frame range A:B (B exclusive; default: all frames)");
-  cmd->add_option("--particles", *particles, "number of particles (overrides rbpf.particles)");
-  cmd->add_option("--seed", *seed, "random seed (overrides rbpf.seed)");
+  CLI::Option* particles_option =
+      cmd->add_option("--particles", *particles, "number of particles (overrides rbpf.particles)");
+  CLI::Option* seed_option = cmd->add_option("--seed", *seed, "random seed ≥ 0 (overrides rbpf.seed)");
   cmd->add_option(
       "--refine", options->refine,
       "ml: refine the filter's trajectory and map by RFS maximum likelihood (paper 004): stereo and Victoria "
@@ -68,11 +69,15 @@ void register_run_command(CLI::App& app) {
     RunOptions o = *options;
     o.format = io::parse_dataset_format(*format);
     if (!frames->empty()) parse_frame_range(*frames, o.first_frame, o.last_frame);
-    if (*particles != 0) {
-      if (*particles < 0) throw ConfigError("--particles must be positive");
+    if (particles_option->count() > 0) {
+      if (*particles < 1)
+        throw ConfigError("--particles must be at least 1, got " + std::to_string(*particles));
       o.particles = *particles;
     }
-    if (*seed >= 0) o.seed = static_cast<std::uint64_t>(*seed);
+    if (seed_option->count() > 0) {
+      if (*seed < 0) throw ConfigError("--seed must not be negative, got " + std::to_string(*seed));
+      o.seed = static_cast<std::uint64_t>(*seed);
+    }
     if (!algorithm->empty()) o.algorithm = *algorithm;
     const io::DatasetFormat detected =
         o.format == io::DatasetFormat::kAuto ? io::detect_dataset_format(o.dataset) : o.format;

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <tuple>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -87,6 +88,20 @@ TEST_F(BadInputRun, OutputFolderThatCannotBeCreatedIsAOneLineError) {
   std::ofstream(dir_ / "a_file") << "x";
   EXPECT_EQ(run(dir_ / "a_file" / "out"), 2);
   EXPECT_NE(log().find("a_file"), std::string::npos) << log();
+}
+
+TEST_F(BadInputRun, ZeroParticlesAndANegativeSeedAreErrorsNotTheDefaults) {
+  // both used to fall back silently to the config's values
+  for (const auto& [flag, value, message] : {std::tuple<std::string, std::string, std::string>{
+                                                 "--particles", "0", "--particles must be at least 1"},
+                                             {"--seed", "-1", "--seed must not be negative"}}) {
+    EXPECT_EQ(test::run_glmbslam({"--log-level", "warn", "run", sequence().string(), "--out",
+                                  (dir_ / "o").string(), flag, value},
+                                 dir_ / "run.log"),
+              2);
+    EXPECT_NE(log().find(message), std::string::npos) << log();
+    EXPECT_FALSE(fs::exists(dir_ / "o" / "metrics.json"));
+  }
 }
 
 TEST_F(BadInputRun, OutputFolderThatFillsUpIsAOneLineErrorAndLeavesNoFalseFile) {
