@@ -4,6 +4,8 @@
 #include <fstream>
 #include <system_error>
 
+#include <spdlog/spdlog.h>
+
 #include "core/error.hpp"
 #include "io/kitti_common.hpp"
 #include "io/trajectory_io.hpp"
@@ -59,14 +61,27 @@ std::vector<double> read_kitti_times(const std::string& times_path) {
   return times;
 }
 
-std::string find_kitti_ground_truth(const std::string& sequence_dir) {
-  fs::path dir = fs::path(sequence_dir);
+namespace {
+
+/// …/sequences/XX → …/poses/XX.txt of the path as given (empty if it names no folder).
+fs::path ground_truth_beside(fs::path dir) {
   if (!dir.has_filename()) dir = dir.parent_path();  // trailing slash
   const std::string seq = dir.filename().string();
-  if (seq.empty()) return "";
-  const fs::path gt = dir.parent_path().parent_path() / "poses" / (seq + ".txt");
+  if (seq.empty()) return {};
+  return dir.parent_path().parent_path() / "poses" / (seq + ".txt");
+}
+
+}  // namespace
+
+std::string find_kitti_ground_truth(const std::string& sequence_dir) {
+  // the path as given, then with its symbolic links resolved (a link to sequences/XX elsewhere)
   std::error_code ec;
-  return fs::is_regular_file(gt, ec) ? gt.string() : std::string();
+  const fs::path given = ground_truth_beside(sequence_dir);
+  if (!given.empty() && fs::is_regular_file(given, ec)) return given.string();
+  const fs::path real = fs::canonical(sequence_dir, ec);
+  if (ec) return "";
+  const fs::path resolved = ground_truth_beside(real);
+  return !resolved.empty() && fs::is_regular_file(resolved, ec) ? resolved.string() : std::string();
 }
 
 KittiOdometryDataset::KittiOdometryDataset(const std::string& sequence_dir,
@@ -96,6 +111,9 @@ KittiOdometryDataset::KittiOdometryDataset(const std::string& sequence_dir,
                                                std::to_string(left_files_.size()) + " frames");
     }
     ground_truth_ = relative_to_first(poses);
+  } else {
+    spdlog::info("{}: no ground truth at {} (the KITTI layout); --gt FILE evaluates against another file",
+                 sequence_dir, ground_truth_beside(sequence_dir).string());
   }
   fs::path named = dir.has_filename() ? dir : dir.parent_path();
   name_ = "kitti odometry " + named.filename().string();

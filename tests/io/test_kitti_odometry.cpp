@@ -280,6 +280,20 @@ TEST(KittiOdometry, FindGroundTruthStandardLayout) {
   EXPECT_EQ(find_kitti_ground_truth(seq.string()), "");
 }
 
+TEST(KittiOdometry, FindGroundTruthThroughASymbolicLink) {
+  // a link to sequences/07 from elsewhere (named otherwise) still finds poses/07.txt beside the real folder
+  const auto root = test::fresh_temp_dir("kitti_odo");
+  const auto seq = make_fake_kitti_sequence(root / "kitti", 1);
+  fs::create_directory_symlink(seq, root / "my_drive");
+  const fs::path expected = root / "kitti" / "poses" / "07.txt";
+  for (const std::string link : {"my_drive", "my_drive/"}) {
+    const std::string found = find_kitti_ground_truth((root / link).string());
+    ASSERT_FALSE(found.empty()) << link;
+    EXPECT_TRUE(fs::equivalent(found, expected)) << found;
+  }
+  EXPECT_EQ(find_kitti_ground_truth((root / "missing").string()), "");
+}
+
 TEST(KittiOdometry, RealPoses00Has4541Poses) {
   GLMBSLAM_REQUIRE_DATA(poses, "kitti_odometry/poses/00.txt");
   const PoseList p = read_kitti_poses(poses.string());
