@@ -74,8 +74,18 @@ EurocDataset::EurocDataset(const std::string& path, const std::string& ground_tr
   detail::require_directory(path, "EuRoC folder");
   const fs::path mav = euroc_mav_dir(path);
   if (mav.empty()) {
+    // name the first file of the layout that is missing (in mav0/, or in the folder itself when it is mav0)
+    const fs::path base =
+        fs::is_directory(fs::path(path) / "mav0") ? fs::path(path) / "mav0" : fs::path(path);
+    std::string missing;
+    for (const char* f : {"cam0/data.csv", "cam0/sensor.yaml", "cam1/data.csv", "cam1/sensor.yaml"}) {
+      std::error_code ec;
+      if (missing.empty() && !fs::exists(base / f, ec)) missing = (base / f).string();
+    }
     throw InputError(path,
-                     "not an EuRoC folder (expected mav0/cam0 and mav0/cam1 with data.csv and sensor.yaml)");
+                     "not an EuRoC folder (expected mav0/cam0 and mav0/cam1 with data.csv and "
+                     "sensor.yaml; missing: " +
+                         missing + ")");
   }
   const fs::path cam0 = mav / "cam0", cam1 = mav / "cam1";
   const EurocCameraSensor s0 = read_euroc_sensor_yaml((cam0 / "sensor.yaml").string());
@@ -129,7 +139,11 @@ void EurocDataset::read_ground_truth(const fs::path& mav, const std::vector<std:
                                      const Pose3& T_BS) {
   const fs::path file = mav / "state_groundtruth_estimate0" / "data.csv";
   std::error_code ec;
-  if (!fs::exists(file, ec)) return;
+  if (!fs::exists(file, ec)) {
+    spdlog::info("{}: no ground truth at {}; --gt FILE evaluates against another file", mav.string(),
+                 file.string());
+    return;
+  }
   std::vector<EurocGroundTruthRecord> records;
   try {
     records = read_euroc_groundtruth_csv(file.string());

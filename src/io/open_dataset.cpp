@@ -23,7 +23,8 @@ DatasetFormat detect_dataset_format(const std::string& path) {
   if (fs::is_directory(dir / "image_00", ec) && fs::is_directory(dir / "image_01", ec)) {
     return DatasetFormat::kKittiRaw;
   }
-  if (!euroc_mav_dir(path).empty()) return DatasetFormat::kEuroc;
+  // a mav0/ folder is EuRoC even when incomplete: its reader then names the missing file
+  if (!euroc_mav_dir(path).empty() || fs::is_directory(dir / "mav0", ec)) return DatasetFormat::kEuroc;
   if (fs::exists(dir / "aa3_dr.mat", ec)) return DatasetFormat::kVictoriaPark;
   throw InputError(
       path,

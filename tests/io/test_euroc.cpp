@@ -192,7 +192,12 @@ TEST(EurocDataset, MissingImagesAndSensorsAreErrors) {
   expect_input_error([&] { EurocDataset{root.string()}; }, "1050000000.png", "not found");
   const fs::path root2 = write_asl(fresh_temp_dir("euroc_nocam"), 3, 3);
   fs::remove(root2 / "mav0/cam1/sensor.yaml");
-  expect_input_error([&] { io::detect_dataset_format(root2.string()); }, root2.string(),
+  // a mav0/ folder is taken for EuRoC, and its reader names the missing file
+  EXPECT_EQ(io::detect_dataset_format(root2.string()), io::DatasetFormat::kEuroc);
+  expect_input_error([&] { io::open_stereo_dataset(root2.string(), io::DatasetFormat::kAuto, ""); },
+                     "missing: " + (root2 / "mav0/cam1/sensor.yaml").string(), "not an EuRoC folder");
+  const fs::path root3 = fresh_temp_dir("euroc_none");
+  expect_input_error([&] { io::detect_dataset_format(root3.string()); }, root3.string(),
                      "unknown dataset layout");
 }
 
