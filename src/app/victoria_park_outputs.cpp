@@ -175,18 +175,24 @@ void write_victoria_park_outputs(const std::filesystem::path& out, const Victori
     plot.set_equal_aspect(true);
     plot.save_png((out / "trajectory.png").string(), 1000, 1000);
   }
+  const auto rmse_text = [](const GpsErrors& e) {  // "n/a" without GPS fixes near the scans
+    char text[32];
+    std::snprintf(text, sizeof text, std::isfinite(e.rmse_m) ? "%.3f m" : "n/a", e.rmse_m);
+    return std::string(text);
+  };
   std::printf(
-      "victoria_park %s N=%d seed=%llu: frames %zu, position RMSE %.3f m (%zu GPS fixes), %.3f ms/step "
+      "victoria_park %s N=%d seed=%llu: frames %zu, position RMSE %s (%zu GPS fixes), %.3f ms/step "
       "(std %.3f), total %.2f s, ESS %.1f %%, resampling %.2f %%, %zu landmarks\n",
       cfg.algorithm.c_str(), static_cast<int>(j["particles"]), static_cast<unsigned long long>(cfg.rbpf.seed),
-      rec.poses.size(), err.rmse_m, err.error_m.size(), ms.mean, ms.stddev, rec.total_s, 100.0 * ess_mean,
-      j["resampling_percent"].get<double>(), rec.map.size());
+      rec.poses.size(), rmse_text(err).c_str(), err.error_m.size(), ms.mean, ms.stddev, rec.total_s,
+      100.0 * ess_mean, j["resampling_percent"].get<double>(), rec.map.size());
   if (rec.refined)
     std::printf(
-        "victoria_park refined (RFS-ML): position RMSE %.3f m (%zu GPS fixes), %zu landmarks, %d EM rounds, "
+        "victoria_park refined (RFS-ML): position RMSE %s (%zu GPS fixes), %zu landmarks, %d EM rounds, "
         "%.2f s%s\n",
-        err_refined.rmse_m, err_refined.error_m.size(), rec.refined->map.size(), rec.refined->report.rounds,
-        rec.refined->report.ms / 1000.0, rec.refined->report.stopped ? " (stopped early)" : "");
+        rmse_text(err_refined).c_str(), err_refined.error_m.size(), rec.refined->map.size(),
+        rec.refined->report.rounds, rec.refined->report.ms / 1000.0,
+        rec.refined->report.stopped ? " (stopped early)" : "");
   std::fflush(stdout);
 }
 

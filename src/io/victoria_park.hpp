@@ -72,7 +72,8 @@ bool is_victoria_park_folder(const std::filesystem::path& folder);
 
 /// Reads and validates the three files:
 ///  aa3_dr.mat: speed, steering, time — vectors of one common length n ≥ 2, time strictly increasing;
-///  aa3_gpsx.mat: timeGps, Lo_m, La_m — vectors of one common length ≥ 1;
+///  aa3_gpsx.mat: timeGps, Lo_m, La_m — vectors of one common length ≥ 1 (the evaluation's reference: when
+///  the file is absent the data have no fixes, with a warning);
 ///  VictoriaParkSinSincronizar.mat: TLsr — vector, non-decreasing; zt — cell array with one cell per TLsr
 ///  entry, each 3×M (or empty), ranges ≥ 0.
 /// Throws InputError naming the file and the variable.

@@ -124,6 +124,14 @@ TEST(VictoriaPark, RejectsMissingOrMisShapedVariables) {
   EXPECT_NE(message().find("'zt' must be a cell array"), std::string::npos);
   write_laser({good_laser[1]});
   EXPECT_NE(message().find("'TLsr' is missing"), std::string::npos);
+  reset();
+  // without the GPS file (the reference, not an input) the data read without fixes
+  std::filesystem::remove(dir / kVictoriaParkGpsFile);
+  EXPECT_EQ(message(), "");
+  const VictoriaParkData without_gps = read_victoria_park(dir);
+  EXPECT_TRUE(without_gps.gps_raw.empty());
+  EXPECT_TRUE(without_gps.gps.fixes.empty());
+  EXPECT_EQ(without_gps.scans.size(), 2u);
 }
 
 }  // namespace
