@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iomanip>
+#include <sstream>
 
 #include "core/error.hpp"
 
@@ -50,8 +52,15 @@ AssociatedTrajectories associate_by_timestamp(const io::Trajectory& gt, const io
     }
   }
   if (a.gt.size() < 2) {
-    throw InputError(est_path, "fewer than 2 poses match a ground-truth timestamp within " +
-                                   std::to_string(tolerance_s) + " s");
+    // the two time ranges tell a unit or clock offset (ns against s, a shifted start) from a tolerance issue
+    std::ostringstream why;
+    why << "fewer than 2 poses match a ground-truth timestamp within " << tolerance_s << " s";
+    if (!est.timestamps.empty() && !gt.timestamps.empty()) {
+      why << " (estimate " << std::fixed << std::setprecision(3) << est.timestamps.front() << "…"
+          << est.timestamps.back() << " s, ground truth " << gt.timestamps.front() << "…"
+          << gt.timestamps.back() << " s; --tolerance sets the window)";
+    }
+    throw InputError(est_path, why.str());
   }
   return a;
 }

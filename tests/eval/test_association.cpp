@@ -58,6 +58,13 @@ TEST(Association, OneToOne) {
 
 TEST(Association, TooFewPairsIsAnError) {
   EXPECT_THROW(associate_by_timestamp(make({0.0, 1.0}), make({5.0, 6.0}), 0.02, "est.txt"), InputError);
+  try {  // the message gives both time ranges (a clock offset or a unit shows there) and the window
+    associate_by_timestamp(make({0.0, 1.0}), make({5.0, 6.0}), 0.02, "est.txt");
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("within 0.02 s (estimate 5.000…6.000 s, ground truth 0.000…1.000 s"),
+              std::string::npos)
+        << e.what();
+  }
 }
 
 }  // namespace
