@@ -35,6 +35,7 @@ int main(int argc, char** argv) {
              "--threads", threads,
              "worker threads (0 = all cores; overrides a config's threads:); the sparse Cholesky of the "
              "refinement adds 2 BLAS threads of its own (core/blas_threads.hpp)")
+          ->check(CLI::Range(0, 1024))
           ->capture_default_str();
   app.parse_complete_callback([&] {
     glmbslam::set_log_level(quiet && log_level_option->count() == 0 ? "warn" : log_level);
