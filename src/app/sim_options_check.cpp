@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <string>
 
+#include "app/refine_flag.hpp"
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
 
@@ -36,9 +37,7 @@ void check_sim_options(const SimOptions& o) {
     throw ConfigError("--algorithm must be " + alternatives(kSimAlgorithms) + ", got '" + o.algorithm + "'");
   if (*o.particles < 1) throw ConfigError("--particles must be at least 1");
   if (o.algorithm == "mlslam" && !o.refine.empty()) {
-    throw ConfigError(
-        "--refine ml refines a filter's estimate, and --algorithm mlslam is the RFS-ML solve "
-        "itself (from the odometry): leave one of them out");
+    throw ConfigError(kMlslamTakesNoRefinement);
   }
   if (o.runs < 1) throw ConfigError("--runs must be at least 1");
   if (o.first_run < 0) throw ConfigError("--first-run must not be negative");

@@ -41,6 +41,7 @@
 
 #include "app/baseline_filters.hpp"
 #include "app/global_options.hpp"
+#include "app/refine_flag.hpp"
 #include "app/run_options.hpp"
 #include "app/victoria_park_config.hpp"
 #include "app/victoria_park_data.hpp"
@@ -216,10 +217,7 @@ int run_victoria_park(const RunOptions& options) {
   set_graceful_interrupts(true);  // SIGINT/SIGTERM: stop at the next scan and write the steps done
   if (!options.refine.empty() && options.refine != "ml")
     throw ConfigError("--refine must be ml (got '" + options.refine + "')");
-  if (options.refine == "ml" && cfg.algorithm == "mlslam")
-    throw ConfigError(
-        "--refine ml refines a filter's estimate, and --algorithm mlslam is the RFS-ML solve "
-        "itself (from the odometry): leave one of them out");
+  if (options.refine == "ml" && cfg.algorithm == "mlslam") throw ConfigError(kMlslamTakesNoRefinement);
   if (cfg.algorithm == "deadreckoning" || cfg.algorithm == "mlslam") {
     DeadReckoning f(motion, cfg.initial_pose);
     rec = run_filter(f, controls, measurements, 1);

@@ -64,10 +64,7 @@ AteResult evaluate_ate(const PoseList& gt, const PoseList& est) {
   AteResult r;
   r.poses = static_cast<int>(gt.size());
   r.se3_alignment = umeyama_alignment(p_est, p_gt, false);
-  r.sim3_alignment = umeyama_alignment(p_est, p_gt, true);
-  r.sim3_scale = r.sim3_alignment.scale;
   r.se3_rmse_m = errors_after(r.se3_alignment, p_est, p_gt, r.se3_errors_m);
-  r.sim3_rmse_m = errors_after(r.sim3_alignment, p_est, p_gt, r.sim3_errors_m);
   // A ground truth that stays in one place (a still camera) fixes no scale: the similarity would shrink the
   // estimate onto the point (scale 0, error 0). Sim(3) is then reported as undefined.
   const double gt_spread =
@@ -75,8 +72,11 @@ AteResult evaluate_ate(const PoseList& gt, const PoseList& est) {
   if (gt_spread < kMinSim3Spread) {
     r.sim3_alignment = r.se3_alignment;
     r.sim3_scale = r.sim3_rmse_m = std::numeric_limits<double>::quiet_NaN();
-    r.sim3_errors_m.clear();
+    return r;
   }
+  r.sim3_alignment = umeyama_alignment(p_est, p_gt, true);
+  r.sim3_scale = r.sim3_alignment.scale;
+  r.sim3_rmse_m = errors_after(r.sim3_alignment, p_est, p_gt, r.sim3_errors_m);
   return r;
 }
 

@@ -80,7 +80,10 @@ EurocDataset::EurocDataset(const std::string& path, const std::string& ground_tr
     std::string missing;
     for (const char* f : {"cam0/data.csv", "cam0/sensor.yaml", "cam1/data.csv", "cam1/sensor.yaml"}) {
       std::error_code ec;
-      if (missing.empty() && !fs::exists(base / f, ec)) missing = (base / f).string();
+      if (!fs::exists(base / f, ec)) {
+        missing = (base / f).string();
+        break;
+      }
     }
     throw InputError(path,
                      "not an EuRoC folder (expected mav0/cam0 and mav0/cam1 with data.csv and "

@@ -75,7 +75,7 @@ ImageFileList list_png_files(const fs::path& dir) {
   return files;
 }
 
-void require_stereo_pairs(const ImageFileList& left, const ImageFileList& right) {
+void require_stereo_pairs(const fs::path& dir, const ImageFileList& left, const ImageFileList& right) {
   // both lists are sorted by name: walk them together to the first name that only one of them has
   std::size_t i = 0, j = 0;
   while (i < left.size() && j < right.size() && left.name(i) == right.name(j)) ++i, ++j;
@@ -84,11 +84,12 @@ void require_stereo_pairs(const ImageFileList& left, const ImageFileList& right)
   const ImageFileList& has = left_alone ? left : right;
   const ImageFileList& lacks = left_alone ? right : left;
   const std::size_t k = left_alone ? i : j;
-  throw InputError(has.path(k).string(),
-                   std::string(left_alone ? "left" : "right") + " image has no partner " +
-                       (lacks.folder() / has.name(k)).string() + " (" + left.folder().filename().string() +
-                       " has " + std::to_string(left.size()) + " images, " +
-                       right.folder().filename().string() + " has " + std::to_string(right.size()) + ")");
+  throw InputError(
+      has.path(k).string(),
+      std::string(left_alone ? "left" : "right") + " image has no partner " +
+          (lacks.folder() / has.name(k)).string() + " (" + left.folder().lexically_relative(dir).string() +
+          " has " + std::to_string(left.size()) + " images, " +
+          right.folder().lexically_relative(dir).string() + " has " + std::to_string(right.size()) + ")");
 }
 
 cv::Mat gray16_to_8bit(const cv::Mat& image) {

@@ -29,8 +29,9 @@ bool is_blank_line(const std::string& line);
 ImageFileList list_png_files(const std::filesystem::path& dir);
 
 /// Checks that the two cameras' lists pair up name by name. Throws InputError naming the first image without
-/// a partner in the other camera's folder, with both folders' image counts.
-void require_stereo_pairs(const ImageFileList& left, const ImageFileList& right);
+/// a partner in the other camera's folder, with both folders' image counts (folders named relative to `dir`).
+void require_stereo_pairs(const std::filesystem::path& dir, const ImageFileList& left,
+                          const ImageFileList& right);
 
 /// Checks that `dir` exists and is a folder; throws InputError naming it otherwise (`what` describes the
 /// folder).

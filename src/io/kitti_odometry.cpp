@@ -90,7 +90,7 @@ KittiOdometryDataset::KittiOdometryDataset(const std::string& sequence_dir,
   detail::require_directory(dir, "KITTI odometry sequence folder");
   left_files_ = detail::list_png_files(dir / "image_0");
   right_files_ = detail::list_png_files(dir / "image_1");
-  detail::require_stereo_pairs(left_files_, right_files_);
+  detail::require_stereo_pairs(dir, left_files_, right_files_);
   calibration_ = read_kitti_odometry_calibration((dir / "calib.txt").string());
   const std::string times_path = (dir / "times.txt").string();
   timestamps_ = read_kitti_times(times_path);

@@ -195,7 +195,7 @@ KittiRawDataset::KittiRawDataset(const std::string& drive_dir, const std::string
   detail::require_directory(dir, "KITTI raw drive folder");
   left_files_ = detail::list_png_files(dir / "image_00" / "data");
   right_files_ = detail::list_png_files(dir / "image_01" / "data");
-  detail::require_stereo_pairs(left_files_, right_files_);
+  detail::require_stereo_pairs(dir, left_files_, right_files_);
   const std::string times_path = (dir / "image_00" / "timestamps.txt").string();
   timestamps_ = read_kitti_raw_timestamps(times_path);
   if (timestamps_.size() != left_files_.size()) {
