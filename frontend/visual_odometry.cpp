@@ -59,7 +59,7 @@ void StereoVisualOdometry::estimate_noise(const std::vector<TrackedPoint>& track
   std::nth_element(flow.begin(), mid, flow.end());
   const bool used = noise_.add_frame(unit_chi2, fit_dimensions, *mid);
   spdlog::debug("vo: frame {}: {} level-0 residuals, median motion {:.1f} px{}, keypoint sigma {:.3f} px",
-                frames_ - 1, unit_chi2.size(), *mid, used ? "" : " (not used)", noise_.sigma());
+                frame_label(), unit_chi2.size(), *mid, used ? "" : " (not used)", noise_.sigma());
 }
 
 bool StereoVisualOdometry::pnp_ransac(const StereoFrameFeatures& frame, const std::vector<Match>& matches,
@@ -99,6 +99,7 @@ VoEstimate StereoVisualOdometry::fallback(VoStatus status) {
   const double grow = std::max(1.0, time_ratio_ * time_ratio_);
   e.covariance = grow * (config_.fallback_covariance_scale * last_covariance_ + floor);
   T_ref_prev_ = T_ref_prev_ * e.relative_pose;
+  ++skipped_since_reference_;
   previous_time_ = current_time_;
   return e;
 }
@@ -130,7 +131,8 @@ VoEstimate StereoVisualOdometry::skip_frame(VoStatus reason, double timestamp) {
     e.status = reason;
     previous_time_ = timestamp;
   }
-  spdlog::warn("vo: frame {}: {} → constant-velocity fallback", frames_ - 1, to_string(reason));
+  // the caller names the frame and why it could not be read
+  spdlog::debug("vo: frame {}: {} → constant-velocity fallback", frame_label(), to_string(reason));
   e.pixel_sigma = noise_.sigma();
   e.pixel_sigma_estimated = noise_.estimated();
   e.ms = sw.elapsed_ms();
@@ -141,6 +143,7 @@ void StereoVisualOdometry::set_reference(const StereoFrameFeatures& frame) {
   ref_.measurements = frame.measurements;
   has_reference_ = true;
   T_ref_prev_ = Pose3::Identity();
+  skipped_since_reference_ = 0;
 }
 
 namespace {
@@ -173,6 +176,16 @@ bool StereoVisualOdometry::repeated_image(const StereoFrameFeatures& frame) {
   return repeated;
 }
 
+int StereoVisualOdometry::predicted_octave(int octave, double depth_ratio) const {
+  // A point seen from depth_ratio times closer appears depth_ratio times larger: the extractor finds it that
+  // many pyramid scales coarser (ORB-SLAM's scale prediction). Frame to frame the ratio is near 1 and the
+  // octave stays; after a gap (dark frames, a dropped stretch) the prediction keeps the near points.
+  if (scales_.size() < 2 || !(depth_ratio > 0.0) || !std::isfinite(depth_ratio)) return octave;
+  const double shift = std::log(depth_ratio) / std::log(scales_[1] / scales_[0]);
+  const long predicted = static_cast<long>(octave) + std::lround(shift);
+  return static_cast<int>(std::clamp(predicted, 0L, static_cast<long>(scales_.size()) - 1));
+}
+
 std::vector<StereoVisualOdometry::Match> StereoVisualOdometry::guided_match(const StereoFrameFeatures& frame,
                                                                             const Pose3& T_ref_cur,
                                                                             double radius) const {
@@ -198,6 +211,10 @@ std::vector<StereoVisualOdometry::Match> StereoVisualOdometry::guided_match(cons
     if (pc.z() <= 0.1) continue;
     const Eigen::Vector3d z = camera_.project(pc);
     if (z.x() < 0 || z.y() < 0 || z.x() >= width || z.y() >= height) continue;
+    // the pyramid levels searched: the reference's ±1; after a gap, around the level the depth change
+    // predicts (frame to frame, the near points whose scale changes that much match poorly and stay out)
+    const int octave = after_gap() ? predicted_octave(m.octave, m.point.z() / pc.z()) : m.octave;
+    const int lowest = std::min(m.octave, octave) - 1, highest = std::max(m.octave, octave) + 1;
     const double r = radius * scales_[static_cast<std::size_t>(m.octave)];
     const int x0 = std::max(0, static_cast<int>((z.x() - r) / cell)),
               x1 = std::min(gc - 1, static_cast<int>((z.x() + r) / cell));
@@ -208,7 +225,7 @@ std::vector<StereoVisualOdometry::Match> StereoVisualOdometry::guided_match(cons
       for (int cx = x0; cx <= x1; ++cx) {
         for (int j : grid[static_cast<std::size_t>(cy * gc + cx)]) {
           const cv::KeyPoint& k = kps[static_cast<std::size_t>(j)];
-          if (std::abs(k.octave - m.octave) > 1) continue;
+          if (k.octave < lowest || k.octave > highest) continue;
           const double du = k.pt.x - z.x(), dv = k.pt.y - z.y();
           if (du * du + dv * dv > r * r) continue;
           const int d = hamming_distance(m.descriptor.data(), frame.left.descriptors.ptr<uchar>(j));
@@ -241,6 +258,7 @@ VoEstimate StereoVisualOdometry::track(const StereoFrameFeatures& frame, double 
   Stopwatch sw;
   ++frames_;
   const std::size_t k = frames_ - 1;
+  const std::size_t label = frame_label();
   auto finish = [&](VoEstimate e) {
     e.pixel_sigma = noise_.sigma();
     e.pixel_sigma_estimated = noise_.estimated();
@@ -254,7 +272,7 @@ VoEstimate StereoVisualOdometry::track(const StereoFrameFeatures& frame, double 
   // A pair with too few measurements to track (a dark or covered lens) repeated says nothing about the
   // motion: it goes on below to the constant-velocity fallback like the first such pair.
   if (repeated && static_cast<int>(frame.measurements.size()) >= min_measurements) {
-    spdlog::info("vo: frame {}: stereo pair identical to the previous one → zero motion", k);
+    spdlog::info("vo: frame {}: stereo pair identical to the previous one → zero motion", label);
     return finish(repeat());
   }
   const Pose3 velocity = predicted_motion(timestamp);
@@ -265,12 +283,12 @@ VoEstimate StereoVisualOdometry::track(const StereoFrameFeatures& frame, double 
     previous_time_ = timestamp;
     if (k > 0) {
       e = fallback(VoStatus::kNoFeatures);
-      spdlog::warn("vo: frame {}: no usable reference yet → constant-velocity fallback", k);
+      spdlog::warn("vo: frame {}: no usable reference yet → constant-velocity fallback", label);
     }
     return finish(e);
   }
   if (static_cast<int>(frame.measurements.size()) < min_measurements) {
-    spdlog::warn("vo: frame {}: {} stereo measurements → constant-velocity fallback", k,
+    spdlog::warn("vo: frame {}: {} stereo measurements → constant-velocity fallback", label,
                  frame.measurements.size());
     return finish(fallback(VoStatus::kNoFeatures));
   }
@@ -282,7 +300,7 @@ VoEstimate StereoVisualOdometry::track(const StereoFrameFeatures& frame, double 
     set_reference(frame);
     return finish(e);
   };
-  RansacStart start = ransac_start(frame, k, T_ref_prev_ * velocity);
+  RansacStart start = ransac_start(frame, label, T_ref_prev_ * velocity);
   if (start.status != VoStatus::kTracked) return lost(start.status, start.matches.size());
   PoseRefinementOptions opt = pose_refinement_options(config_);
   const std::vector<Match> matches = refinement_matches(frame, start, opt);
@@ -291,8 +309,8 @@ VoEstimate StereoVisualOdometry::track(const StereoFrameFeatures& frame, double 
   TrackedPoints tracked = tracked_points(frame, matches);
   const PoseRefinementResult res = refine_stereo_pose(camera_, tracked.points, start.T_ref_cur, opt);
   if (!res.success || res.inliers < config_.min_inliers) {
-    spdlog::warn("vo: frame {}: refinement kept {} of {} points → constant-velocity fallback", k, res.inliers,
-                 tracked.points.size());
+    spdlog::warn("vo: frame {}: refinement kept {} of {} points → constant-velocity fallback", label,
+                 res.inliers, tracked.points.size());
     return lost(VoStatus::kTooFewInliers, matches.size());
   }
   VoEstimate e = accept(frame, timestamp, std::move(tracked), res);

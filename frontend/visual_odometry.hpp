@@ -81,6 +81,9 @@ class StereoVisualOdometry {
 
   /// Number of frames seen so far.
   std::size_t frames() const { return frames_; }
+  /// The dataset index of the first frame tracked (a run over frames A:B starts at A): the messages name
+  /// frames by their dataset index, as the rest of the run does.
+  void set_first_frame(std::size_t index) { first_frame_ = index; }
   /// The keypoint noise estimate (pixel_noise_estimator.hpp).
   const PixelNoiseEstimator& pixel_noise() const { return noise_; }
 
@@ -96,6 +99,9 @@ class StereoVisualOdometry {
 
   std::vector<Match> guided_match(const StereoFrameFeatures& frame, const Pose3& T_ref_cur,
                                   double radius) const;
+  /// The pyramid level at which a point of `octave` is expected after its depth shrank by `depth_ratio`
+  /// (reference depth / current depth), within the extractor's levels.
+  int predicted_octave(int octave, double depth_ratio) const;
   /// EPnP + RANSAC on (reference 3D point, current left pixel) of `matches`: true if it succeeds with at
   /// least min_inliers inliers (rvec, tvec: the current camera in the reference frame, OpenCV convention).
   bool pnp_ransac(const StereoFrameFeatures& frame, const std::vector<Match>& matches, std::size_t k,
@@ -139,6 +145,14 @@ class StereoVisualOdometry {
   VoConfig config_;
   std::vector<double> scales_;
   std::size_t frames_ = 0;
+  std::size_t first_frame_ = 0;  ///< set_first_frame
+  /// Frames given the constant-velocity fallback since the reference was taken (a dark stretch keeps it).
+  std::size_t skipped_since_reference_ = 0;
+  /// The frame being tracked is not the one after its reference: frames were skipped in between, or time
+  /// passed for more than 1.5 frames (dropped frames).
+  bool after_gap() const { return skipped_since_reference_ > 0 || time_ratio_ > 1.5; }
+  /// The dataset index of the frame being tracked, for messages.
+  std::size_t frame_label() const { return first_frame_ + frames_ - 1; }
   bool has_reference_ = false;
   Reference ref_;
   Pose3 T_ref_prev_ = Pose3::Identity();  ///< previous output frame expressed in the reference frame

@@ -124,6 +124,15 @@ class LmbSlam {
     last_ = report;
   }
 
+  /// A step (k−1 → k, control u) whose sensor saw nothing: the poses move, the maps stay (blind_step in
+  /// backend/rbpf/labelled_map_filter.hpp). Throws InputError (and leaves the filter unchanged) if u is not
+  /// finite.
+  void blind_step(const Control& u) {
+    Stopwatch watch;
+    const ParticleStepResult r = backend::blind_step(set_, motion_, u, config_);
+    record_blind_step(last_, r, watch.elapsed_ms());
+  }
+
   const State& pose() const { return set_.pose(); }
   PoseList trajectory() const { return set_.trajectory(); }
   /// The highest-weight particle's proposal means (its sampled poses for the prior proposal), steps 0..k.

@@ -160,6 +160,15 @@ class GlmbSlam {
     last_ = report;
   }
 
+  /// A step (k−1 → k, control u) whose sensor saw nothing: the poses move, the maps stay (blind_step in
+  /// labelled_map_filter.hpp). Throws InputError (and leaves the filter unchanged) if u is not finite.
+  void blind_step(const Control& u) {
+    Stopwatch watch;
+    const ParticleStepResult r = backend::blind_step(set_, motion_, u, config_);
+    weighted_mean_ = weighted_mean(set_.particles());
+    record_blind_step(last_, r, watch.elapsed_ms());
+  }
+
   // ----- estimates (taken from the highest-weight particle before resampling) -----
   /// The estimated pose at the last step (highest-weight particle).
   const State& pose() const { return set_.pose(); }

@@ -5,6 +5,7 @@
 //  - the initial scan: Z_0 at the known initial pose updates the common initial map, so its measurements
 //    become the birth candidates of step 1 and anchor the map to the initial pose;
 //  - the step preamble: k = steps + 1, and a non-finite control or measurement leaves the filter unchanged;
+//  - the blind step: a frame whose sensor saw nothing moves the poses and leaves the maps as they were;
 //  - the pose draw of proposals "prior" (x ~ f(·|x⁻, u), δ-GLMB-SLAM 1.0) and "optimal" (the optimal-kernel
 //    Gaussian of δ-GLMB-SLAM 2.0, optimal_proposal.hpp) with its weight factor (paper 000 Eq. 33 as printed
 //    for weighting "paper", f/q otherwise), and the map's factor log Ĝ added to it.
@@ -65,6 +66,41 @@ int begin_step(const ParticleSet<State, Map>& set, const Updater& updater, const
   if (!u.allFinite()) throw InputError("control input", "time step " + std::to_string(k) + ": not finite");
   updater.validate(Z, k);
   return k;
+}
+
+/// A step whose sensor saw nothing (a covered lens, a dark or unreadable frame): its field of view is empty,
+/// and outside the field of view paper 000 has p_D = 0 and p_S = 1 (Eq. 4–9), so the joint prediction/update
+/// (Eq. 11–16) leaves every map as it was and every particle's weight factor is 1. Each pose is drawn from
+/// f(·|x⁻, u) (the optimal kernel without measurements is the motion model), its point estimate the
+/// prediction; with one particle and single_particle "mean" the pose is the prediction. The maps,
+/// and the birth candidates they hold from the last scan, are shared unchanged. Throws InputError (before
+/// anything changes) if the control is not finite.
+template <class Motion, class State, class Map>
+ParticleStepResult blind_step(ParticleSet<State, Map>& set, const Motion& motion,
+                              const typename Motion::Control& u, const RbpfConfig& config) {
+  const bool mean_pose = config.particles == 1 && config.single_particle == "mean";
+  const int k = set.steps() + 1;
+  if (!u.allFinite()) throw InputError("control input", "time step " + std::to_string(k) + ": not finite");
+  using Particle = typename ParticleSet<State, Map>::Particle;
+  return set.step([&](std::size_t, RandomStream& rng, const Particle& p, Particle& out) {
+    const State x_estimate = motion.predict(p.trajectory->pose, u);
+    const State x = mean_pose ? x_estimate : motion.sample(p.trajectory->pose, u, rng);
+    out.trajectory = std::make_shared<const TrajectoryNode<State>>(x, x_estimate, k, p.trajectory);
+    out.map = p.map;
+    return 0.0;
+  });
+}
+
+/// The step report of a blind step `r` that took `ms`: the previous report's map figures (tracks,
+/// hypotheses) hold, the measurement likelihood is 1.
+template <class Report>
+void record_blind_step(Report& report, const ParticleStepResult& r, double ms) {
+  report.step = r.step;
+  report.ess = r.ess;
+  report.best_particle = static_cast<int>(r.best);
+  report.resampled = r.resampled;
+  report.log_likelihood = 0.0;
+  report.ms = ms;
 }
 
 /// How a particle's weight is formed (RbpfConfig: proposal, weighting, particle_normalizer).

@@ -171,6 +171,7 @@ void run_vo(const VoArgs& a) {
   frontend::RectificationCheck rectification;
   std::vector<double> right_gains;
   frontend::StereoVisualOdometry vo(fe.camera(), config.vo, fe.extractor().scales());
+  vo.set_first_frame(first);
   const std::size_t sample =
       a.sample_frame >= 0 ? std::min<std::size_t>(static_cast<std::size_t>(a.sample_frame), requested - 1)
                           : requested / 2;

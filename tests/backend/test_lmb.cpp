@@ -333,6 +333,49 @@ TEST(LmbSlam, TracksASmallSceneWithBothProposals) {
   }
 }
 
+// A frame whose sensor saw nothing (blind_step): the maps stay as they were and, with one particle and
+// single_particle "mean", the pose is the motion model's prediction.
+TEST(LmbSlam, ABlindStepMovesThePoseAndLeavesTheMap) {
+  UnicycleMotionConfig mc;
+  mc.dt = 1.0;
+  RangeBearingConfig sc;
+  sc.max_range = 30.0;
+  sc.half_fov = M_PI;
+  sc.clutter_rate = 1.0;
+  const UnicycleMotion motion(mc);
+  const Model model(sc);
+  RbpfConfig rc;
+  rc.particles = 1;
+  rc.single_particle = "mean";
+  LmbSlam<UnicycleMotion, Model> slam(motion, model, rc, LmbConfig(), Pose2(0, 0, 0));
+  Pose2 x(0, 0, 0);
+  const std::vector<Eigen::Vector2d> landmarks = {{5, 5}, {10, -4}, {15, 6}};
+  auto scan = [&] {
+    LmbSlam<UnicycleMotion, Model>::MeasurementSet Z;
+    for (const auto& m : landmarks) Z.push_back(model.predict(x, m));
+    return Z;
+  };
+  slam.initial_scan(scan());
+  const Eigen::Vector2d u(1.0, 0.0);
+  for (int k = 1; k <= 5; ++k) {
+    x = motion.predict(x, u);
+    slam.step(u, scan());
+  }
+  const auto before = slam.landmarks();
+  ASSERT_EQ(before.size(), landmarks.size());
+  const auto* map = slam.particles()[0].map.get();
+  const Pose2 pose = slam.pose();
+  slam.blind_step(u);
+  EXPECT_EQ(slam.particles()[0].map.get(), map);
+  EXPECT_EQ(slam.pose(), motion.predict(pose, u));
+  const auto after = slam.landmarks();
+  ASSERT_EQ(after.size(), before.size());
+  for (std::size_t j = 0; j < after.size(); ++j) {
+    EXPECT_EQ(after[j].existence, before[j].existence);
+    EXPECT_EQ(after[j].mean, before[j].mean);
+  }
+}
+
 TEST(LmbSlam, SameSeedSameOutputForAnyThreadCount) {
   RangeBearingConfig sc;
   sc.max_range = 30.0;

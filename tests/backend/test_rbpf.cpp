@@ -2,6 +2,7 @@
 // closed-loop simulation in which the filter must track the pose far better than odometry alone.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -155,6 +156,64 @@ TEST(GlmbSlam, RejectsNonFiniteInputWithoutChangingState) {
   EXPECT_EQ(slam.steps(), 0);
   slam.step(world.odometry[0], Slam::MeasurementSet{});  // empty scan is fine
   EXPECT_EQ(slam.steps(), 1);
+}
+
+// A frame whose sensor saw nothing (blind_step): every particle keeps the map it had and its weight, and its
+// pose moves with the motion model (the prediction itself for one particle with single_particle "mean").
+// An empty scan is different: the landmarks in view were missed, and their existence falls.
+TEST(GlmbSlam, ABlindStepMovesThePosesAndLeavesTheMaps) {
+  const SmallWorld world(12, 4);
+  for (const int particles : {1, 10}) {
+    RbpfConfig c = small_config("optimal");
+    c.particles = particles;
+    c.single_particle = "mean";
+    c.resampling = "ess";
+    Slam slam(UnicycleMotion(world.motion_config), RangeBearingModel(world.sensor), c, world.truth[0]);
+    for (int k = 0; k < 10; ++k) slam.step(world.odometry[k], world.scans[k]);
+    std::vector<const Slam::Map*> maps;
+    std::vector<double> log_w;
+    for (const auto& p : slam.particles()) {
+      maps.push_back(p.map.get());
+      log_w.push_back(p.log_weight);
+    }
+    const auto landmarks = slam.landmarks();
+    ASSERT_FALSE(landmarks.empty());
+    const Pose2 before = slam.pose();
+    const Eigen::Vector2d u = world.odometry[10];
+    slam.blind_step(u);
+    EXPECT_EQ(slam.steps(), 11);
+    EXPECT_EQ(slam.trajectory().size(), 12u);
+    EXPECT_NEAR(slam.last_report().ess, effective_sample_size(log_w), 1e-9 * particles) << particles;
+    for (const auto& p : slam.particles())
+      EXPECT_NE(std::find(maps.begin(), maps.end(), p.map.get()), maps.end()) << particles;
+    const auto after = slam.landmarks();
+    ASSERT_EQ(after.size(), landmarks.size());
+    for (std::size_t j = 0; j < after.size(); ++j) {
+      EXPECT_EQ(after[j].label, landmarks[j].label);
+      EXPECT_EQ(after[j].existence, landmarks[j].existence);
+      EXPECT_EQ(after[j].mean, landmarks[j].mean);
+    }
+    if (particles == 1) {
+      EXPECT_EQ(slam.pose(), UnicycleMotion(world.motion_config).predict(before, u));
+      // the same step with an empty scan instead: the landmarks in view were missed
+      Slam missed(UnicycleMotion(world.motion_config), RangeBearingModel(world.sensor), c, world.truth[0]);
+      for (int k = 0; k < 10; ++k) missed.step(world.odometry[k], world.scans[k]);
+      missed.step(u, Slam::MeasurementSet{});
+      const RangeBearingModel model(world.sensor);
+      const auto missed_landmarks = missed.landmarks();
+      int in_view = 0;
+      for (const auto& l : after) {
+        if (!model.in_field_of_view(missed.pose(), l.mean)) continue;
+        ++in_view;
+        for (const auto& m : missed_landmarks) {
+          if (m.label == l.label) {
+            EXPECT_LT(m.existence, l.existence);
+          }
+        }
+      }
+      EXPECT_GT(in_view, 0);
+    }
+  }
 }
 
 double position_rmse(const SmallWorld& world, const Slam::PoseList& est) {

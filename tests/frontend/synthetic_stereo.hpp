@@ -2,7 +2,9 @@
 // Synthetic stereo frames for the VO tests: world points with fixed random descriptors, projected into a
 // KITTI-like rectified stereo camera with Gaussian pixel noise, optionally with displaced (outlier)
 // keypoints.
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -41,11 +43,18 @@ inline SyntheticWorld make_world(int n, RandomStream& rng) {
   return w;
 }
 
+/// The pyramid level at which an extractor finds a point at `depth` whose image is one pixel wide at 30 m:
+/// level 0 from 30 m on, one level (×1.2) coarser for every 1.2 times closer, at most level 7.
+inline int octave_at_depth(double depth) {
+  return static_cast<int>(std::clamp(std::lround(std::log(30.0 / depth) / std::log(1.2)), 0L, 7L));
+}
+
 /// The frame seen from T_wc: every visible point (depth 2–70 m, inside the image) becomes a left keypoint and
 /// a stereo measurement with noise σ on u_L, v, u_R. A fraction `outliers` of the keypoints is displaced by
-/// 4–12 px (their descriptors still match, so they become wrong correspondences).
+/// 4–12 px (their descriptors still match, so they become wrong correspondences). Keypoints are at pyramid
+/// level 0, or with `octave_by_depth` at octave_at_depth (a point's level changes as the camera approaches).
 inline StereoFrameFeatures make_frame(const SyntheticWorld& w, const Pose3& T_wc, double sigma,
-                                      double outliers, RandomStream& rng) {
+                                      double outliers, RandomStream& rng, bool octave_by_depth = false) {
   StereoFrameFeatures f;
   const StereoCamera& cam = kKittiCamera;
   std::vector<cv::Mat> rows;
@@ -61,7 +70,8 @@ inline StereoFrameFeatures make_frame(const SyntheticWorld& w, const Pose3& T_wc
       z.z() += r * std::cos(a);
       z.y() += r * std::sin(a);
     }
-    cv::KeyPoint kp(static_cast<float>(z.x()), static_cast<float>(z.y()), 31.0f, 0.0f, 50.0f, 0);
+    const int octave = octave_by_depth ? octave_at_depth(p.z()) : 0;
+    cv::KeyPoint kp(static_cast<float>(z.x()), static_cast<float>(z.y()), 31.0f, 0.0f, 50.0f, octave);
     f.left.keypoints.push_back(kp);
     rows.push_back(cv::Mat(1, 32, CV_8U, const_cast<std::uint8_t*>(w.descriptors[i].data())).clone());
     StereoMeasurement m;
@@ -70,6 +80,7 @@ inline StereoFrameFeatures make_frame(const SyntheticWorld& w, const Pose3& T_wc
     m.point = cam.triangulate(z);
     m.point_covariance = cam.triangulation_covariance(z, sigma);
     std::copy(w.descriptors[i].begin(), w.descriptors[i].end(), m.descriptor.begin());
+    m.octave = octave;
     m.left_index = static_cast<int>(f.left.keypoints.size()) - 1;
     f.left_to_measurement.push_back(static_cast<int>(f.measurements.size()));
     f.measurements.push_back(m);

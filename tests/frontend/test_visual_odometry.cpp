@@ -246,6 +246,55 @@ TEST(StereoVisualOdometry, FallsBackOnHardFramesAndRecovers) {
   EXPECT_EQ(vo.frames(), 7u);
 }
 
+// After a dark stretch the reference is many metres behind: the points ahead appear several pyramid levels
+// coarser than when the reference saw them. The guided matching then searches around the level each point's
+// depth change predicts, so the near points match too and the pose is recovered; frame to frame (no gap) the
+// window stays the reference's level ±1.
+TEST(StereoVisualOdometry, AfterADarkStretchThePredictedScaleKeepsTheNearPoints) {
+  RandomStream rng(18);
+  const test::SyntheticWorld world = test::make_world(3000, rng);
+  struct ComposedVo {  // the VO and the pose its estimates compose
+    StereoVisualOdometry vo{kKittiCamera, VoConfig{}, test::pyramid_scales()};
+    Pose3 pose = Pose3::Identity();
+    VoEstimate operator()(const StereoFrameFeatures& f, double t) {
+      const VoEstimate e = vo.track(f, t);
+      pose = pose * e.relative_pose;
+      return e;
+    }
+  } run;
+  const Pose3 step = motion(1.0, 0.5);
+  Pose3 T_wc = Pose3::Identity();
+  run(test::make_frame(world, T_wc, 0.3, 0.0, rng, true), 0.0);
+  T_wc = T_wc * step;
+  const StereoFrameFeatures reference = test::make_frame(world, T_wc, 0.3, 0.0, rng, true);
+  ASSERT_EQ(run(reference, 0.1).status, VoStatus::kTracked);
+  StereoFrameFeatures blank;
+  blank.left.pyramid = {cv::Mat::zeros(test::kHeight, test::kWidth, CV_8U)};
+  const int dark = 9;
+  for (int k = 0; k < dark; ++k) {
+    T_wc = T_wc * step;
+    ASSERT_EQ(run(blank, 0.2 + 0.1 * k).status, VoStatus::kNoFeatures);
+  }
+  T_wc = T_wc * step;  // 10 m ahead of the reference
+  const StereoFrameFeatures after = test::make_frame(world, T_wc, 0.3, 0.0, rng, true);
+  // the points both frames measured, and how many of them changed pyramid level by more than one
+  std::size_t common = 0, rescaled = 0;
+  for (const auto& m : after.measurements) {
+    for (const auto& r : reference.measurements) {
+      if (r.descriptor != m.descriptor) continue;
+      ++common;
+      if (std::abs(m.octave - r.octave) > 1) ++rescaled;
+    }
+  }
+  ASSERT_GT(rescaled, common / 4) << "the scene must hold points whose level changes by more than one";
+  const VoEstimate e = run(after, 0.2 + 0.1 * dark);
+  ASSERT_EQ(e.status, VoStatus::kTracked);
+  EXPECT_GT(static_cast<double>(e.matches), 0.9 * static_cast<double>(common));
+  const Pose3 err = T_wc.inverse() * run.pose;
+  EXPECT_LT(err.translation().norm(), 0.05);
+  EXPECT_LT(rotation_angle(err.linear()) * 180.0 / M_PI, 0.05);
+}
+
 // A still camera is a measurement: the same scene with fresh pixel noise is tracked (never a repeat) and the
 // motion estimates stay at zero.
 TEST(StereoVisualOdometry, StillCameraIsTrackedNotRepeated) {

@@ -17,6 +17,8 @@ class StereoBackend {
   virtual ~StereoBackend() = default;
   virtual void initial_scan(const StereoMeasurementSet& Z) = 0;
   virtual void step(const backend::RelativePoseControl& u, const StereoMeasurementSet& Z) = 0;
+  /// A step whose camera saw nothing: the poses move with u, the maps stay.
+  virtual void blind_step(const backend::RelativePoseControl& u) = 0;
   virtual Pose3 pose() const = 0;
   virtual FilterStatus status() const = 0;
   /// The best particle's sampled poses (`sampled`) or its proposal means, steps 0..k.
@@ -39,6 +41,7 @@ class FilterBackend final : public StereoBackend {
   void step(const backend::RelativePoseControl& u, const StereoMeasurementSet& Z) override {
     filter_.step(u, Z);
   }
+  void blind_step(const backend::RelativePoseControl& u) override { filter_.blind_step(u); }
   Pose3 pose() const override { return filter_.pose(); }
   FilterStatus status() const override {
     const auto& report = filter_.last_report();
@@ -94,8 +97,11 @@ const FilterStep& FilterStage::step(const FrameWork& work, const frontend::VoEst
                                     const frontend::StereoVisualOdometry& vo, std::size_t k) {
   step_.Z.clear();
   step_.selected.clear();
+  // a frame without images or without enough stereo measurements to track: the camera saw nothing (a
+  // covered lens, a dark or blank frame), which says nothing about the landmarks in view
+  step_.blind = k > 0 && (!work.loaded || vo_estimate.status == frontend::VoStatus::kNoFeatures);
   frontend::VoEstimate control = vo_estimate;
-  if (work.loaded) {
+  if (work.loaded && !step_.blind) {
     const auto& measurements = work.features.measurements;
     // the features the VO tracked from last frame's selection: preferred (track continuity), and the ones
     // whose motion information reaches the backend through their landmarks
@@ -124,6 +130,8 @@ const FilterStep& FilterStage::step(const FrameWork& work, const frontend::VoEst
   if (k == 0) {
     filter_->initial_scan(
         step_.Z);  // the first frame's measurements anchor the map at the known initial pose
+  } else if (step_.blind) {
+    filter_->blind_step(step_.control);
   } else {
     filter_->step(step_.control, step_.Z);
   }

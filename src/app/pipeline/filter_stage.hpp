@@ -39,7 +39,11 @@ struct FilterStep {
   /// Index into the frame's StereoFrameFeatures::measurements of each element of Z.
   std::vector<int> selected;
   backend::RelativePoseControl control;  ///< u_k, Q_k given to the backend (unused at k = 0)
-  double ms = 0.0;                       ///< backend wall time
+  /// The camera saw nothing (no images, or too few stereo measurements for the VO): the backend moved its
+  /// poses with the control and left its map (blind_step), and Z is empty. The VO's reference, and with it
+  /// the selection the next frame's tracked features refer to, stays at the last frame that saw.
+  bool blind = false;
+  double ms = 0.0;  ///< backend wall time
 };
 
 /// The particle filter behind the stage (filter_stage.cpp: δ-GLMB-SLAM or LMB-SLAM).

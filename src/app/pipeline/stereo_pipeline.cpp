@@ -18,6 +18,7 @@ StereoPipeline::StereoPipeline(const io::StereoDataset& dataset, const StereoCal
       use_backend_(config.pipeline.algorithm != "vo"),
       frontend_(calibration, config.frontend),
       vo_(frontend_, config.frontend.vo, pixel_noise_options(config)) {
+  vo_.set_first_frame(first);
   if (use_backend_) filter_.emplace(config, calibration);
 }
 

@@ -19,6 +19,8 @@ class VoStage {
   /// frame gets the constant-velocity fallback over its elapsed time (identity at k = 0).
   const frontend::VoEstimate& track(const FrameWork& work, std::size_t k);
 
+  /// The dataset index of the run's first frame (the VO's messages name frames by it).
+  void set_first_frame(std::size_t index) { vo_.set_first_frame(index); }
   const frontend::VoEstimate& estimate() const { return estimate_; }
   /// The accumulated VO pose T_0k of the last tracked frame.
   const Pose3& pose() const { return pose_; }
