@@ -277,14 +277,25 @@ VoEstimate StereoVisualOdometry::track(const StereoFrameFeatures& frame, double 
   }
   const Pose3 velocity = predicted_motion(timestamp);
   if (!has_reference_) {
-    if (static_cast<int>(frame.measurements.size()) >= min_measurements) set_reference(frame);
+    // nothing to track from yet (the first frame, or only too dark or blank ones so far): this frame becomes
+    // the reference if it can be; its motion since the previous frame is the prediction (zero at the start)
+    const bool usable = static_cast<int>(frame.measurements.size()) >= min_measurements;
     VoEstimate e;
     e.status = VoStatus::kFirstFrame;
-    previous_time_ = timestamp;
     if (k > 0) {
-      e = fallback(VoStatus::kNoFeatures);
-      spdlog::warn("vo: frame {}: no usable reference yet → constant-velocity fallback", label);
+      e = fallback(usable ? VoStatus::kFirstFrame : VoStatus::kNoFeatures);
+      if (usable) {
+        spdlog::info("vo: frame {}: the first frame to track from; its motion since frame {} is not known",
+                     label, label - 1);
+      } else {
+        spdlog::warn(
+            "vo: frame {}: {} stereo measurements and no frame to track from yet → constant-velocity "
+            "fallback",
+            label, frame.measurements.size());
+      }
     }
+    previous_time_ = timestamp;
+    if (usable) set_reference(frame);
     return finish(e);
   }
   if (static_cast<int>(frame.measurements.size()) < min_measurements) {

@@ -295,6 +295,30 @@ TEST(StereoVisualOdometry, AfterADarkStretchThePredictedScaleKeepsTheNearPoints)
   EXPECT_LT(rotation_angle(err.linear()) * 180.0 / M_PI, 0.05);
 }
 
+// A camera that starts covered: the blank frames before the first textured one are bridged (no motion is
+// known yet), the first textured frame becomes the reference without being counted as a fallback (its
+// measurements are a scan like any other), and the next frame is tracked from it.
+TEST(StereoVisualOdometry, StartsTrackingAtTheFirstTexturedFrame) {
+  RandomStream rng(19);
+  const test::SyntheticWorld world = test::make_world(3000, rng);
+  StereoVisualOdometry vo(kKittiCamera, VoConfig{}, test::pyramid_scales());
+  StereoFrameFeatures blank;
+  blank.left.pyramid = {cv::Mat::zeros(test::kHeight, test::kWidth, CV_8U)};
+  EXPECT_EQ(vo.track(blank, 0.0).status, VoStatus::kFirstFrame);
+  const VoEstimate dark = vo.track(blank, 0.1);
+  EXPECT_EQ(dark.status, VoStatus::kNoFeatures);
+  EXPECT_TRUE(dark.fallback());
+  const Pose3 step = motion(1.0, 1.0);
+  Pose3 T_wc = Pose3::Identity();
+  const VoEstimate first = vo.track(test::make_frame(world, T_wc, 0.5, 0.0, rng), 0.2);
+  EXPECT_EQ(first.status, VoStatus::kFirstFrame);
+  EXPECT_FALSE(first.fallback());
+  T_wc = T_wc * step;
+  const VoEstimate next = vo.track(test::make_frame(world, T_wc, 0.5, 0.0, rng), 0.3);
+  ASSERT_EQ(next.status, VoStatus::kTracked);
+  EXPECT_LT((next.relative_pose.translation() - step.translation()).norm(), 0.03);
+}
+
 // A still camera is a measurement: the same scene with fresh pixel noise is tracked (never a repeat) and the
 // motion estimates stay at zero.
 TEST(StereoVisualOdometry, StillCameraIsTrackedNotRepeated) {
