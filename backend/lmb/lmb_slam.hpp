@@ -129,7 +129,7 @@ class LmbSlam {
   /// finite.
   void blind_step(const Control& u) {
     Stopwatch watch;
-    const ParticleStepResult r = backend::blind_step(set_, motion_, u, config_);
+    const ParticleStepResult r = backend::blind_step(set_, motion_, u);
     record_blind_step(last_, r, watch.elapsed_ms());
   }
 

@@ -164,7 +164,7 @@ class GlmbSlam {
   /// labelled_map_filter.hpp). Throws InputError (and leaves the filter unchanged) if u is not finite.
   void blind_step(const Control& u) {
     Stopwatch watch;
-    const ParticleStepResult r = backend::blind_step(set_, motion_, u, config_);
+    const ParticleStepResult r = backend::blind_step(set_, motion_, u);
     weighted_mean_ = weighted_mean(set_.particles());
     record_blind_step(last_, r, watch.elapsed_ms());
   }

@@ -333,8 +333,8 @@ TEST(LmbSlam, TracksASmallSceneWithBothProposals) {
   }
 }
 
-// A frame whose sensor saw nothing (blind_step): the maps stay as they were and, with one particle and
-// single_particle "mean", the pose is the motion model's prediction.
+// A frame whose sensor saw nothing (blind_step): the maps stay as they were and the pose is the motion
+// model's prediction.
 TEST(LmbSlam, ABlindStepMovesThePoseAndLeavesTheMap) {
   UnicycleMotionConfig mc;
   mc.dt = 1.0;

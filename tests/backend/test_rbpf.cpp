@@ -159,7 +159,7 @@ TEST(GlmbSlam, RejectsNonFiniteInputWithoutChangingState) {
 }
 
 // A frame whose sensor saw nothing (blind_step): every particle keeps the map it had and its weight, and its
-// pose moves with the motion model (the prediction itself for one particle with single_particle "mean").
+// pose moves by the motion model's prediction, undrawn.
 // An empty scan is different: the landmarks in view were missed, and their existence falls.
 TEST(GlmbSlam, ABlindStepMovesThePosesAndLeavesTheMaps) {
   const SmallWorld world(12, 4);
@@ -184,8 +184,11 @@ TEST(GlmbSlam, ABlindStepMovesThePosesAndLeavesTheMaps) {
     EXPECT_EQ(slam.steps(), 11);
     EXPECT_EQ(slam.trajectory().size(), 12u);
     EXPECT_NEAR(slam.last_report().ess, effective_sample_size(log_w), 1e-9 * particles) << particles;
-    for (const auto& p : slam.particles())
+    const UnicycleMotion motion(world.motion_config);
+    for (const auto& p : slam.particles()) {
       EXPECT_NE(std::find(maps.begin(), maps.end(), p.map.get()), maps.end()) << particles;
+      EXPECT_EQ(p.trajectory->pose, motion.predict(p.trajectory->parent->pose, u)) << particles;
+    }
     const auto after = slam.landmarks();
     ASSERT_EQ(after.size(), landmarks.size());
     for (std::size_t j = 0; j < after.size(); ++j) {
