@@ -63,8 +63,7 @@ void StereoVisualOdometry::estimate_noise(const std::vector<TrackedPoint>& track
 }
 
 bool StereoVisualOdometry::pnp_ransac(const StereoFrameFeatures& frame, const std::vector<Match>& matches,
-                                      std::size_t k, cv::Mat& rvec, cv::Mat& tvec,
-                                      std::vector<int>& inliers) const {
+                                      cv::Mat& rvec, cv::Mat& tvec, std::vector<int>& inliers) const {
   std::vector<cv::Point3f> object;
   std::vector<cv::Point2f> image;
   object.reserve(matches.size());
@@ -82,7 +81,7 @@ bool StereoVisualOdometry::pnp_ransac(const StereoFrameFeatures& frame, const st
                             static_cast<float>(config_.ransac_reprojection_px), config_.ransac_confidence,
                             inliers, cv::SOLVEPNP_EPNP);
   } catch (const cv::Exception& ex) {
-    spdlog::debug("vo: frame {}: solvePnPRansac failed: {}", k, ex.what());
+    spdlog::debug("vo: frame {}: solvePnPRansac failed: {}", frame_label(), ex.what());
     ok = false;
   }
   return ok && static_cast<int>(inliers.size()) >= config_.min_inliers;
@@ -311,7 +310,7 @@ VoEstimate StereoVisualOdometry::track(const StereoFrameFeatures& frame, double 
     set_reference(frame);
     return finish(e);
   };
-  RansacStart start = ransac_start(frame, label, T_ref_prev_ * velocity);
+  RansacStart start = ransac_start(frame, T_ref_prev_ * velocity);
   if (start.status != VoStatus::kTracked) return lost(start.status, start.matches.size());
   PoseRefinementOptions opt = pose_refinement_options(config_);
   const std::vector<Match> matches = refinement_matches(frame, start, opt);
@@ -331,12 +330,12 @@ VoEstimate StereoVisualOdometry::track(const StereoFrameFeatures& frame, double 
 }
 
 StereoVisualOdometry::RansacStart StereoVisualOdometry::ransac_start(const StereoFrameFeatures& frame,
-                                                                     std::size_t k,
                                                                      const Pose3& T_pred) const {
   // Guided matching with the constant-velocity prediction, then EPnP + RANSAC on (reference 3D point, current
   // left pixel). The wide window is used when the velocity is unknown, and tried again when the narrow one
   // finds too few matches or matches that PnP rejects (a sharp turn moves the features beyond the narrow
   // window, which then holds mostly wrong candidates).
+  const std::size_t k = frame_label();
   RansacStart start;
   cv::Mat rvec, tvec;
   bool ok = false;
@@ -344,7 +343,7 @@ StereoVisualOdometry::RansacStart StereoVisualOdometry::ransac_start(const Stere
     const double radius = attempt == 0 ? config_.search_radius_px : config_.wide_search_radius_px;
     start.matches = guided_match(frame, T_pred, radius);
     if (static_cast<int>(start.matches.size()) < config_.min_matches) continue;
-    ok = pnp_ransac(frame, start.matches, k, rvec, tvec, start.inliers);
+    ok = pnp_ransac(frame, start.matches, rvec, tvec, start.inliers);
     if (!ok && attempt == 0) {
       spdlog::debug("vo: frame {}: PnP kept {} of {} matches in the narrow window, trying the wide one", k,
                     start.inliers.size(), start.matches.size());

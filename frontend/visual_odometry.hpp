@@ -104,8 +104,8 @@ class StereoVisualOdometry {
   int predicted_octave(int octave, double depth_ratio) const;
   /// EPnP + RANSAC on (reference 3D point, current left pixel) of `matches`: true if it succeeds with at
   /// least min_inliers inliers (rvec, tvec: the current camera in the reference frame, OpenCV convention).
-  bool pnp_ransac(const StereoFrameFeatures& frame, const std::vector<Match>& matches, std::size_t k,
-                  cv::Mat& rvec, cv::Mat& tvec, std::vector<int>& inliers) const;
+  bool pnp_ransac(const StereoFrameFeatures& frame, const std::vector<Match>& matches, cv::Mat& rvec,
+                  cv::Mat& tvec, std::vector<int>& inliers) const;
   /// `matches` as refinement input (the current stereo measurement where there is one).
   struct TrackedPoints {
     std::vector<TrackedPoint> points;
@@ -121,7 +121,7 @@ class StereoVisualOdometry {
     Pose3 T_ref_cur = Pose3::Identity();
     VoStatus status = VoStatus::kTracked;
   };
-  RansacStart ransac_start(const StereoFrameFeatures& frame, std::size_t k, const Pose3& T_pred) const;
+  RansacStart ransac_start(const StereoFrameFeatures& frame, const Pose3& T_pred) const;
   /// The pairs the refinement takes: RANSAC's inliers, or (vo.rematch_after_pnp) guided matching again at
   /// its pose; with vo.consensus_first at the pose refined from RANSAC's inliers, which then becomes
   /// start.T_ref_cur, and opt gates at the start.
